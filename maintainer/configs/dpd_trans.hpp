@@ -1,0 +1,3 @@
+/* DPD with the transverse (TRANS_DPD) friction. */
+#define DPD
+#define TRANS_DPD

@@ -1,0 +1,1 @@
+/* No optional features: plain velocity-Verlet point particles. */

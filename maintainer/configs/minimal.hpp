@@ -1,0 +1,2 @@
+/* Minimal useful build: a DPD solvent and nothing else. */
+#define DPD

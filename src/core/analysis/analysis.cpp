@@ -1,0 +1,138 @@
+// Observables of the current state: energies, pressure tensor, momentum,
+// centre of mass, distances.
+#include "system/System.hpp"
+#include "utils/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace Marble {
+
+using Utils::Vector3d;
+
+namespace {
+// Conservative pair force factor (F = fac d) and energy of one pair.
+struct PairCons {
+  double fac = 0., energy = 0.;
+};
+PairCons conservative([[maybe_unused]] IAParams const &p, [[maybe_unused]] double r) {
+  PairCons out;
+#ifdef LENNARD_JONES
+  if (p.lj.active) {
+    out.fac += p.lj.force_over_r(r);
+    out.energy += p.lj.energy(r);
+  }
+#endif
+#ifdef HAT
+  if (p.hat.active) {
+    out.fac += p.hat.force_over_r(r);
+    out.energy += p.hat.energy(r);
+  }
+#endif
+  return out;
+}
+} // namespace
+
+Energies System::energies() {
+  ensure_lists();
+  Energies e;
+  int const nt = std::max(1, m_ia.n_types());
+  e.non_bonded_pairs.assign(static_cast<std::size_t>(nt) * nt, 0.);
+  for (int i = 0; i < m_ps.n_local(); ++i) {
+    e.kinetic += 0.5 * m_ps.get_mass(i) * m_ps.v[i].norm2();
+#ifdef ROTATION
+    if (m_ps.rotation[i])
+      e.kinetic_rot += 0.5 * m_ps.rinertia[i] * m_ps.omega[i].norm2();
+#endif
+  }
+  e.kinetic += e.kinetic_rot;
+  for (auto const &pr : m_cells.pairs()) {
+    int const ti = m_ps.type[pr[0]], tj = m_ps.type[pr[1]];
+    IAParams const &p = m_ia.get(ti, tj);
+    double const r2 = (m_ps.pos[pr[0]] - m_ps.pos[pr[1]]).norm2();
+    if (r2 >= p.max_cut2)
+      continue;
+    double const u = conservative(p, std::sqrt(r2)).energy;
+    e.non_bonded += u;
+    e.non_bonded_pairs[std::min(ti, tj) * nt + std::max(ti, tj)] += u;
+  }
+  return e;
+}
+
+PressureTensor System::pressure_tensor() {
+  ensure_lists();
+  PressureTensor p;
+  double const V = m_box.volume();
+  for (int i = 0; i < m_ps.n_local(); ++i) {
+    double const m = m_ps.get_mass(i);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        p.kinetic[3 * a + b] += m * m_ps.v[i][a] * m_ps.v[i][b] / V;
+  }
+  for (auto const &pr : m_cells.pairs()) {
+    IAParams const &ia = m_ia.get(m_ps.type[pr[0]], m_ps.type[pr[1]]);
+    Vector3d const d = m_ps.pos[pr[0]] - m_ps.pos[pr[1]];
+    double const r2 = d.norm2();
+    if (r2 >= ia.max_cut2)
+      continue;
+    double const fac = conservative(ia, std::sqrt(r2)).fac;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        p.non_bonded[3 * a + b] += fac * d[a] * d[b] / V;
+  }
+  return p;
+}
+
+Vector3d System::linear_momentum() const {
+  Vector3d m{};
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    m += m_ps.get_mass(i) * m_ps.v[i];
+  return m;
+}
+
+Vector3d System::angular_momentum_spin() const {
+  Vector3d l{};
+#ifdef ROTATION
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    if (m_ps.rotation[i])
+      l += m_ps.rinertia[i] * m_ps.omega[i];
+#endif
+  return l;
+}
+
+double System::total_mass() const {
+  double m = 0.;
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    m += m_ps.get_mass(i);
+  return m;
+}
+
+Vector3d System::center_of_mass() const {
+  Vector3d c{};
+  double const M = total_mass();
+  if (M <= 0.)
+    return c;
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    c += m_ps.get_mass(i) * m_box.unfolded(m_ps.pos[i], m_ps.image[i]);
+  return c / M;
+}
+
+double System::min_dist(std::vector<int> const &t1, std::vector<int> const &t2) {
+  auto in = [](std::vector<int> const &set, int t) {
+    return set.empty() || std::find(set.begin(), set.end(), t) != set.end();
+  };
+  auto match = [&](int ta, int tb) { return (in(t1, ta) && in(t2, tb)) || (in(t1, tb) && in(t2, ta)); };
+  int const n = m_ps.n_local();
+  // O(N^2) over minimum images: exact for any distance and any box.
+  double best2 = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (!match(m_ps.type[i], m_ps.type[j]))
+        continue;
+      best2 = std::min(best2, m_box.get_mi_vector(m_ps.pos[i], m_ps.pos[j]).norm2());
+    }
+  return std::sqrt(best2);
+}
+
+} // namespace Marble

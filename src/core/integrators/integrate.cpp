@@ -1,0 +1,152 @@
+// Velocity Verlet (with rotation of isotropic spheres) and steepest descent.
+// One step (doc/architecture.md): half kick + drift, step counter += 1,
+// Verlet list check, forces, half kick.
+#include "system/System.hpp"
+#include "utils/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace Marble {
+
+using Utils::Vector3d;
+
+namespace {
+[[maybe_unused]] bool fixed(ParticleStore const &ps, int i, int d) {
+#ifdef EXTERNAL_FORCE
+  return (ps.fix[i] >> d) & 1;
+#else
+  (void)ps, (void)i, (void)d;
+  return false;
+#endif
+}
+} // namespace
+
+// v += half_dt F/m (and omega += half_dt tau/I).
+void System::kick(double half_dt) {
+  for (int i = 0; i < m_ps.n_local(); ++i) {
+    double const a = half_dt / m_ps.get_mass(i);
+    for (int d = 0; d < 3; ++d)
+      m_ps.v[i][d] = fixed(m_ps, i, d) ? 0. : m_ps.v[i][d] + a * m_ps.f[i][d];
+#ifdef ROTATION
+    if (m_ps.rotation[i])
+      m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
+#endif
+  }
+}
+
+// Half kick + drift, refusing a step that moves a particle farther than the
+// skin or makes it non-finite: the particles are then put back as they were.
+void System::drift_checked() {
+  double const dt = m_time_step;
+  double const max2 = m_cells.skin() * m_cells.skin();
+  int const n = m_ps.n_local();
+  for (int i = 0; i < n; ++i) {
+    double const a = 0.5 * dt / m_ps.get_mass(i);
+    Vector3d dv, dx;
+    for (int d = 0; d < 3; ++d) {
+      bool const fx = fixed(m_ps, i, d);
+      dv[d] = fx ? -m_ps.v[i][d] : a * m_ps.f[i][d];
+      dx[d] = fx ? 0. : dt * (m_ps.v[i][d] + dv[d]);
+    }
+    double const disp2 = dx.norm2();
+    if (!(disp2 <= max2)) { // also catches NaN
+      // undo the particles already moved
+      for (int k = 0; k < i; ++k) {
+        // recompute what was applied to particle k and revert it
+        double const ak = 0.5 * dt / m_ps.get_mass(k);
+        Vector3d vnew = m_ps.v[k];
+        m_ps.pos[k] -= dt * vnew;
+        for (int d = 0; d < 3; ++d)
+          if (!fixed(m_ps, k, d))
+            m_ps.v[k][d] -= ak * m_ps.f[k][d];
+#ifdef ROTATION
+        if (m_ps.rotation[k])
+          m_ps.omega[k] -= (0.5 * dt / m_ps.rinertia[k]) * m_ps.torque[k];
+#endif
+      }
+      m_forces_valid = false;
+      m_cells.invalidate();
+      std::string const what =
+          std::isfinite(disp2)
+              ? "moved " + Utils::to_str(std::sqrt(disp2)) + " in one step, more than the skin (" +
+                    Utils::to_str(m_cells.skin()) +
+                    "): likely cause: time step too large for the forces/velocities or "
+                    "overlapping particles; reduce time_step or increase cell_system.skin"
+              : "got a non-finite velocity or position: likely cause: time step too large or "
+                "a non-finite force/velocity set by the user";
+      throw Utils::RuntimeError("integration stopped at step " + std::to_string(m_step + 1) +
+                                ": particle " + std::to_string(m_ps.id[i]) + " " + what);
+    }
+    m_ps.v[i] += dv;
+    m_ps.pos[i] += dx;
+#ifdef ROTATION
+    if (m_ps.rotation[i])
+      m_ps.omega[i] += (0.5 * dt / m_ps.rinertia[i]) * m_ps.torque[i];
+#endif
+  }
+}
+
+int System::run(int n_steps, bool recalc_forces) {
+  if (m_integrator == IntegratorKind::SteepestDescent)
+    return run_sd(n_steps);
+  if (recalc_forces)
+    m_forces_valid = false;
+  return run_vv(n_steps);
+}
+
+int System::run_vv(int n_steps) {
+  if (m_time_step <= 0.)
+    throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
+  update_thermostat_prefactors();
+  if (!m_forces_valid || n_steps == 0) {
+    compute_forces(true);
+    check_forces_finite();
+  }
+  for (int s = 0; s < n_steps; ++s) {
+    drift_checked();
+    ++m_step;
+    m_time += m_time_step;
+#ifdef DPD
+    ++m_thermo.dpd.philox_counter;
+#endif
+    compute_forces(true);
+    try {
+      check_forces_finite();
+    } catch (...) {
+      m_forces_valid = false;
+      throw;
+    }
+    kick(0.5 * m_time_step);
+  }
+  return n_steps;
+}
+
+int System::run_sd(int n_steps) {
+  auto const &p = m_sd;
+  int done = 0;
+  for (; done < n_steps; ++done) {
+    compute_forces(false);
+    check_forces_finite();
+    double fmax2 = 0.;
+    for (int i = 0; i < m_ps.n_local(); ++i) {
+      Vector3d f = m_ps.f[i];
+      for (int d = 0; d < 3; ++d)
+        if (fixed(m_ps, i, d))
+          f[d] = 0.;
+      fmax2 = std::max(fmax2, f.norm2());
+    }
+    if (fmax2 < p.f_max * p.f_max)
+      break;
+    for (int i = 0; i < m_ps.n_local(); ++i)
+      for (int d = 0; d < 3; ++d)
+        if (!fixed(m_ps, i, d))
+          m_ps.pos[i][d] += std::clamp(p.gamma * m_ps.f[i][d], -p.max_displacement, p.max_displacement);
+    m_forces_valid = false;
+  }
+  // Forces from SD exclude the thermostat: recompute them before the next MD run.
+  m_forces_valid = false;
+  return done;
+}
+
+} // namespace Marble

@@ -1,0 +1,162 @@
+#include "particles/ParticleStore.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+namespace Marble {
+
+// Visit every array that holds a value for locals and ghosts.
+template <typename F> void ParticleStore::for_each_array(F &&fn) {
+  fn(id);
+  fn(type);
+  fn(pos);
+  fn(v);
+  fn(f);
+#ifdef MASS
+  fn(mass);
+#endif
+#ifdef ROTATION
+  fn(omega);
+  fn(torque);
+  fn(rinertia);
+  fn(rotation);
+#endif
+}
+
+// Visit every array that holds a value for locals only.
+template <typename F> void ParticleStore::for_each_local_array(F &&fn) {
+  fn(image);
+  fn(pos_at_rebuild);
+#ifdef EXTERNAL_FORCE
+  fn(ext_force);
+  fn(ext_torque);
+  fn(fix);
+#endif
+}
+
+std::vector<int> ParticleStore::ids_sorted() const {
+  std::vector<int> out(id.begin(), id.begin() + m_n_local);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void ParticleStore::add(ParticleProperties const &p) {
+  assert(n_ghost() == 0);
+  assert(p.id >= 0 && !exists(p.id));
+  id.push_back(p.id);
+  type.push_back(p.type);
+  pos.push_back(p.pos);
+  v.push_back(p.v);
+  f.push_back({});
+#ifdef MASS
+  mass.push_back(p.mass);
+#endif
+#ifdef ROTATION
+  omega.push_back(p.omega);
+  torque.push_back({});
+  rinertia.push_back(p.rinertia);
+  rotation.push_back(p.rotation ? 1 : 0);
+#endif
+  image.push_back(p.image);
+  pos_at_rebuild.push_back(p.pos);
+#ifdef EXTERNAL_FORCE
+  ext_force.push_back(p.ext_force);
+  ext_torque.push_back(p.ext_torque);
+  fix.push_back(p.fix);
+#endif
+  if (p.id >= static_cast<int>(m_index.size()))
+    m_index.resize(p.id + 1, -1);
+  m_index[p.id] = m_n_local++;
+}
+
+ParticleProperties ParticleStore::get(int pid) const {
+  int const i = index_of(pid);
+  assert(i >= 0);
+  ParticleProperties p;
+  p.id = id[i];
+  p.type = type[i];
+  p.pos = pos[i];
+  p.v = v[i];
+  p.image = image[i];
+  p.mass = get_mass(i);
+#ifdef ROTATION
+  p.rotation = rotation[i] != 0;
+  p.rinertia = rinertia[i];
+  p.omega = omega[i];
+#endif
+#ifdef EXTERNAL_FORCE
+  p.ext_force = ext_force[i];
+  p.ext_torque = ext_torque[i];
+  p.fix = fix[i];
+#endif
+  return p;
+}
+
+void ParticleStore::remove(int pid) {
+  assert(n_ghost() == 0);
+  int const i = index_of(pid);
+  assert(i >= 0);
+  int const last = m_n_local - 1;
+  // Move the last particle into the hole.
+  auto move_last = [&](auto &arr) {
+    arr[i] = arr[last];
+    arr.pop_back();
+  };
+  for_each_array(move_last);
+  for_each_local_array(move_last);
+  m_index[pid] = -1;
+  --m_n_local;
+  if (i < m_n_local)
+    m_index[id[i]] = i;
+  while (!m_index.empty() && m_index.back() < 0)
+    m_index.pop_back();
+}
+
+void ParticleStore::clear() {
+  for_each_array([](auto &arr) { arr.clear(); });
+  for_each_local_array([](auto &arr) { arr.clear(); });
+  ghost_owner.clear();
+  ghost_shift.clear();
+  m_index.clear();
+  m_n_local = 0;
+}
+
+void ParticleStore::clear_ghosts() {
+  for_each_array([this](auto &arr) { arr.resize(m_n_local); });
+  ghost_owner.clear();
+  ghost_shift.clear();
+}
+
+void ParticleStore::add_ghost(int owner, Utils::Vector3d const &shift) {
+  id.push_back(id[owner]);
+  type.push_back(type[owner]);
+  pos.push_back(pos[owner] + shift);
+  v.push_back(v[owner]);
+  f.push_back({});
+#ifdef MASS
+  mass.push_back(mass[owner]);
+#endif
+#ifdef ROTATION
+  omega.push_back(omega[owner]);
+  torque.push_back({});
+  rinertia.push_back(rinertia[owner]);
+  rotation.push_back(rotation[owner]);
+#endif
+  ghost_owner.push_back(owner);
+  ghost_shift.push_back(shift);
+}
+
+void ParticleStore::permute_locals(std::vector<int> const &order) {
+  assert(n_ghost() == 0 && static_cast<int>(order.size()) == m_n_local);
+  auto apply = [&order](auto &arr) {
+    auto copy = arr;
+    for (std::size_t k = 0; k < order.size(); ++k)
+      arr[k] = copy[order[k]];
+  };
+  for_each_array(apply);
+  for_each_local_array(apply);
+  for (int k = 0; k < m_n_local; ++k)
+    m_index[id[k]] = k;
+}
+
+} // namespace Marble

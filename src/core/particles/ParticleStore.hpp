@@ -1,0 +1,97 @@
+#pragma once
+// Structure-of-arrays particle storage. Indices [0, n_local) are the particles
+// this process owns; [n_local, size) are ghosts: periodic images (and, with
+// MPI, copies of a neighbour's particles) that exist only for the pair loop.
+// Local order is rebuilt by the cell system (sorted by cell for locality), so
+// particles are addressed by id through index_of().
+#include "config/features.hpp"
+#include "utils/Vector.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace Marble {
+
+struct ParticleProperties {
+  int id = -1;
+  int type = 0;
+  Utils::Vector3d pos{};
+  Utils::Vector3d v{};
+  Utils::Vector3i image{};
+  double mass = 1.;
+  bool rotation = false;
+  double rinertia = 1.;
+  Utils::Vector3d omega{};
+  Utils::Vector3d ext_force{};
+  Utils::Vector3d ext_torque{};
+  std::uint8_t fix = 0; // bit d set: coordinate d is fixed
+};
+
+class ParticleStore {
+public:
+  // Per-particle data (locals and ghosts).
+  std::vector<int> id, type;
+  std::vector<Utils::Vector3d> pos, v, f;
+#ifdef MASS
+  std::vector<double> mass;
+#endif
+#ifdef ROTATION
+  std::vector<Utils::Vector3d> omega, torque;
+  std::vector<double> rinertia;
+  std::vector<std::uint8_t> rotation;
+#endif
+  // Local-only data (indices < n_local).
+  std::vector<Utils::Vector3i> image;
+  std::vector<Utils::Vector3d> pos_at_rebuild;
+#ifdef EXTERNAL_FORCE
+  std::vector<Utils::Vector3d> ext_force, ext_torque;
+  std::vector<std::uint8_t> fix;
+#endif
+  // Ghost-only data, indexed by (ghost index - n_local).
+  std::vector<int> ghost_owner;
+  std::vector<Utils::Vector3d> ghost_shift;
+
+  int n_local() const { return m_n_local; }
+  int size() const { return static_cast<int>(id.size()); }
+  int n_ghost() const { return size() - m_n_local; }
+
+  double get_mass(int i) const {
+#ifdef MASS
+    return mass[i];
+#else
+    (void)i;
+    return 1.;
+#endif
+  }
+
+  /** Local index of particle @p pid, or -1. */
+  int index_of(int pid) const {
+    return (pid >= 0 && pid < static_cast<int>(m_index.size())) ? m_index[pid] : -1;
+  }
+  bool exists(int pid) const { return index_of(pid) >= 0; }
+  int max_id() const { return static_cast<int>(m_index.size()) - 1; }
+  /** Ids of all local particles in ascending order. */
+  std::vector<int> ids_sorted() const;
+
+  /** Append a local particle (ghosts must have been cleared). */
+  void add(ParticleProperties const &p);
+  /** Remove a local particle by id (ghosts must have been cleared). */
+  void remove(int pid);
+  void clear();
+  ParticleProperties get(int pid) const;
+
+  /** Drop all ghosts. */
+  void clear_ghosts();
+  /** Append a ghost image of local @p owner shifted by @p shift. */
+  void add_ghost(int owner, Utils::Vector3d const &shift);
+  /** Reorder locals by @p order (new position k holds old order[k]). */
+  void permute_locals(std::vector<int> const &order);
+
+private:
+  template <typename F> void for_each_array(F &&f);
+  template <typename F> void for_each_local_array(F &&f);
+  int m_n_local = 0;
+  std::vector<int> m_index; // id -> local index, -1 if absent
+};
+
+} // namespace Marble

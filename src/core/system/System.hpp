@@ -1,0 +1,122 @@
+#pragma once
+// The System owns everything a simulation needs; there is no global state.
+#include "box/BoxGeometry.hpp"
+#include "cells/CellSystem.hpp"
+#include "nonbonded/InteractionTable.hpp"
+#include "particles/ParticleStore.hpp"
+#include "thermostats/Thermostat.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace Marble {
+
+enum class IntegratorKind { VelocityVerlet, SteepestDescent };
+
+struct SteepestDescentParams {
+  double f_max = 0., gamma = 0., max_displacement = 0.;
+};
+
+/** Energies of the current configuration. */
+struct Energies {
+  double kinetic = 0., kinetic_rot = 0., non_bonded = 0.;
+  std::vector<double> non_bonded_pairs; // n_types x n_types, upper triangle filled
+  double total() const { return kinetic + non_bonded; }
+};
+
+/** Pressure tensor parts (already divided by the volume). */
+struct PressureTensor {
+  std::array<double, 9> kinetic{}, non_bonded{}, dpd{};
+};
+
+class System {
+public:
+  explicit System(Utils::Vector3d const &box_l);
+
+  // --- geometry and parameters (validated by the script interface) ---
+  BoxGeometry const &box() const { return m_box; }
+  void set_box_l(Utils::Vector3d const &l);
+  double time_step() const { return m_time_step; }
+  void set_time_step(double dt);
+  double time() const { return m_time; }
+  void set_time(double t) { m_time = t; }
+  std::uint64_t step() const { return m_step; }
+  void set_skin(double s);
+  double skin() const { return m_cells.skin(); }
+
+  // --- particles ---
+  ParticleStore &particles() { return m_ps; }
+  ParticleStore const &particles() const { return m_ps; }
+  void add_particle(ParticleProperties p);
+  void remove_particle(int pid);
+  void clear_particles();
+  /** Call after any change of particle data or parameters. */
+  void on_change() {
+    m_forces_valid = false;
+  }
+  void on_particle_change() {
+    m_forces_valid = false;
+    m_cells.invalidate();
+  }
+
+  // --- interactions and thermostat ---
+  InteractionTable &interactions() { return m_ia; }
+  void set_interaction(int i, int j, IAParams const &p);
+  Thermostat &thermostat() { return m_thermo; }
+  /** Recompute cached noise prefactors from kT, gamma, dt. */
+  void update_thermostat_prefactors();
+
+  // --- integration ---
+  IntegratorKind integrator() const { return m_integrator; }
+  void set_integrator_vv() { m_integrator = IntegratorKind::VelocityVerlet; }
+  void set_integrator_sd(SteepestDescentParams const &p) {
+    m_integrator = IntegratorKind::SteepestDescent;
+    m_sd = p;
+  }
+  SteepestDescentParams const &sd_params() const { return m_sd; }
+  /** Integrate @p n_steps; returns the number of steps done. Throws Utils::RuntimeError. */
+  int run(int n_steps, bool recalc_forces = false);
+
+  // --- analysis ---
+  CellSystem &cells() { return m_cells; }
+  /** Make sure the Verlet list matches the current positions and interactions. */
+  void ensure_lists();
+  Energies energies();
+  PressureTensor pressure_tensor();
+  Utils::Vector3d linear_momentum() const;
+  Utils::Vector3d angular_momentum_spin() const;
+  Utils::Vector3d center_of_mass() const;
+  double total_mass() const;
+  /** Minimum pair distance between particles of types in @p t1 and @p t2 (empty = all). */
+  double min_dist(std::vector<int> const &t1, std::vector<int> const &t2);
+  Utils::Vector3d distance_vec(int pid1, int pid2) const;
+
+  // --- force evaluation (used by the integrators and tests) ---
+  void compute_forces(bool with_thermostat);
+  bool forces_valid() const { return m_forces_valid; }
+  double max_cutoff() const { return m_ia.max_cutoff(); }
+
+private:
+  void check_forces_finite() const;
+  int run_vv(int n_steps);
+  int run_sd(int n_steps);
+  void rebuild_if_needed();
+  void kick(double half_dt);
+  void drift_checked();
+
+  BoxGeometry m_box;
+  ParticleStore m_ps;
+  CellSystem m_cells;
+  InteractionTable m_ia;
+  Thermostat m_thermo;
+  IntegratorKind m_integrator = IntegratorKind::VelocityVerlet;
+  SteepestDescentParams m_sd;
+  double m_time_step = -1.;
+  double m_time = 0.;
+  std::uint64_t m_step = 0;
+  bool m_forces_valid = false;
+  double m_cut_at_rebuild = -1.;
+};
+
+} // namespace Marble

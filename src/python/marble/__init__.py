@@ -1,0 +1,12 @@
+"""Marble: mesoscale colloids in a DPD solvent, with an espressomd-shaped API.
+
+    import marble
+    system = marble.System(box_l=[10, 10, 10])
+"""
+from ._marble import FeaturesError
+from .code_features import features, has_features, all_features, assert_features
+from .system import System
+
+__version__ = "0.1.0"
+__all__ = ["System", "FeaturesError", "features", "has_features", "all_features",
+           "assert_features"]

@@ -1,0 +1,59 @@
+"""Analysis of the current state: ``system.analysis``."""
+import numpy as np
+
+
+class Analysis:
+    def __init__(self, system):
+        self._system = system
+        self._core = system._core
+
+    def energy(self):
+        """Energies: 'total', 'kinetic' (incl. rotation), 'kinetic_rotational',
+        'non_bonded' and ('non_bonded', i, j) per type pair."""
+        return dict(self._core.energy())
+
+    def pressure_tensor(self):
+        """Pressure tensors (3x3): 'total', 'kinetic', 'non_bonded' (conservative forces)."""
+        return dict(self._core.pressure_tensor())
+
+    def pressure(self):
+        """Scalar pressures (trace / 3 of the tensors)."""
+        return {k: float(np.trace(v)) / 3.0 for k, v in self.pressure_tensor().items()}
+
+    def linear_momentum(self, include_particles=True, include_lbfluid=True):
+        """Total linear momentum sum m v."""
+        if not include_particles:
+            return np.zeros(3)
+        return self._core.linear_momentum()
+
+    def kinetic_temperature(self, types=None):
+        """Translational kinetic temperature 2 E_kin / (3 N) (optionally of some types)."""
+        parts = self._system.part.all()
+        if types is not None:
+            types = np.atleast_1d(types)
+            sel = np.isin(parts.type, types)
+            ids = parts.id[sel]
+            parts = self._system.part.by_ids(ids)
+        n = len(parts)
+        if n == 0:
+            raise ValueError("no particles to compute a temperature from")
+        v = parts.v
+        m = parts.mass
+        return float(np.sum(m[:, None] * v * v) / (3.0 * n))
+
+    def center_of_mass(self, p_type=None):
+        """Centre of mass of all particles, or of those of type ``p_type``."""
+        if p_type is None:
+            return self._core.center_of_mass()
+        parts = self._system.part.select(type=p_type)
+        if len(parts) == 0:
+            raise ValueError(f"no particles of type {p_type}")
+        m = parts.mass
+        return np.sum(m[:, None] * parts.pos, axis=0) / np.sum(m)
+
+    def min_dist(self, p1="default", p2="default"):
+        """Smallest minimum-image distance between a particle of a type in p1 and
+        one of a type in p2 ('default': any type)."""
+        t1 = [] if isinstance(p1, str) and p1 == "default" else [int(t) for t in p1]
+        t2 = [] if isinstance(p2, str) and p2 == "default" else [int(t) for t in p2]
+        return float(self._core.min_dist(t1, t2))

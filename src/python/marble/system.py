@@ -1,0 +1,109 @@
+"""The System: the one object a script creates; it owns everything else."""
+import numpy as np
+
+from . import _marble
+from .analysis import Analysis
+from .cell_system import CellSystem
+from .galilei import GalileiTransform
+from .integrate import Integrator
+from .interactions import NonBondedInteractions
+from .particle_data import ParticleList, ParticleHandle
+from .thermostat import Thermostat
+
+
+class System:
+    """A simulation box with its particles, interactions, thermostat and integrator.
+
+    Parameters
+    ----------
+    box_l : (3,) array_like of float > 0
+        Box lengths. The box is periodic in all three directions.
+    time_step : float > 0, optional
+    """
+
+    _allowed = ("box_l", "time_step", "periodicity")
+
+    def __init__(self, **kwargs):
+        unknown = set(kwargs) - set(self._allowed)
+        if unknown:
+            raise ValueError(f"unknown parameter(s) {sorted(unknown)} for System "
+                             f"(allowed: {', '.join(self._allowed)})")
+        if "box_l" not in kwargs:
+            raise ValueError("parameter 'box_l' is required")
+        self._core = _marble.System(kwargs["box_l"])
+        self.part = ParticleList(self)
+        self.non_bonded_inter = NonBondedInteractions(self)
+        self.thermostat = Thermostat(self)
+        self.integrator = Integrator(self)
+        self.cell_system = CellSystem(self)
+        self.analysis = Analysis(self)
+        self.galilei = GalileiTransform(self)
+        if "periodicity" in kwargs:
+            self.periodicity = kwargs["periodicity"]
+        if "time_step" in kwargs:
+            self.time_step = kwargs["time_step"]
+
+    # --- parameters -------------------------------------------------------
+    @property
+    def box_l(self):
+        """Box lengths (3,)."""
+        return self._core.box_l
+
+    @box_l.setter
+    def box_l(self, value):
+        self._core.box_l = value
+
+    @property
+    def periodicity(self):
+        return np.array([True, True, True])
+
+    @periodicity.setter
+    def periodicity(self, value):
+        v = np.asarray(value, dtype=bool)
+        if v.shape != (3,) or not v.all():
+            raise ValueError("parameter 'periodicity' must be [True, True, True]: "
+                             "non-periodic boxes come with walls (not yet implemented)")
+
+    @property
+    def time_step(self):
+        """Integration time step (> 0). Unset: -1."""
+        return self._core.time_step
+
+    @time_step.setter
+    def time_step(self, value):
+        self._core.time_step = value
+
+    @property
+    def time(self):
+        """Simulation time."""
+        return self._core.time
+
+    @time.setter
+    def time(self, value):
+        self._core.time = value
+
+    @property
+    def step(self):
+        """Number of integration steps done (keys the counter-based noise)."""
+        return self._core.step
+
+    # --- geometry helpers ---------------------------------------------------
+    def _position_of(self, x, name):
+        if isinstance(x, ParticleHandle):
+            return x.pos_folded
+        a = np.asarray(x, dtype=float)
+        if a.shape != (3,) or not np.all(np.isfinite(a)):
+            raise ValueError(f"parameter '{name}' must be a particle or a finite 3-vector")
+        return a
+
+    def distance_vec(self, p1, p2):
+        """Minimum-image vector from p1 to p2 (particles or positions)."""
+        a = self._position_of(p1, "p1")
+        b = self._position_of(p2, "p2")
+        d = b - a
+        L = self.box_l
+        return d - L * np.round(d / L)
+
+    def distance(self, p1, p2):
+        """Minimum-image distance between p1 and p2 (particles or positions)."""
+        return float(np.linalg.norm(self.distance_vec(p1, p2)))

@@ -1,0 +1,12 @@
+#pragma once
+#include "system/System.hpp"
+
+#include <pybind11/pybind11.h>
+
+namespace ScriptInterface {
+namespace py = pybind11;
+using namespace pybind11::literals;
+void bind_particles(py::class_<Marble::System> &cls);
+void bind_interactions(py::class_<Marble::System> &cls);
+void bind_system(py::class_<Marble::System> &cls);
+} // namespace ScriptInterface

@@ -1,0 +1,111 @@
+#pragma once
+// Parameter validation at the script interface: every value that enters the
+// core passes through here, so errors name the parameter and its allowed range.
+#include "utils/Vector.hpp"
+#include "utils/errors.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ScriptInterface {
+
+namespace py = pybind11;
+
+[[noreturn]] inline void value_error(std::string const &msg) { throw std::invalid_argument(msg); }
+
+/** Interval description for messages, e.g. "[0, inf)". */
+inline std::string range_str(double lo, bool lo_open, double hi, bool hi_open) {
+  auto num = [](double x) {
+    if (std::isinf(x))
+      return std::string(x > 0 ? "inf" : "-inf");
+    return Utils::to_str(x);
+  };
+  return (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
+}
+
+/** A finite double in [lo, hi] (or open ends). */
+inline double check_double(std::string const &name, double x, double lo = -INFINITY,
+                           double hi = INFINITY, bool lo_open = false, bool hi_open = false) {
+  bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+  if (!ok)
+    value_error("parameter '" + name + "' must be a finite number in " +
+                range_str(lo, lo_open, hi, hi_open) + ", got " + Utils::to_str(x));
+  return x;
+}
+
+/** Convert a Python object to a double, rejecting bools/strings/None. */
+inline double to_double(std::string const &name, py::handle h) {
+  if (h.is_none() || py::isinstance<py::str>(h) || py::isinstance<py::bool_>(h))
+    value_error("parameter '" + name + "' must be a number, got " +
+                std::string(py::str(py::type::of(h).attr("__name__"))));
+  try {
+    return py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
+  } catch (py::error_already_set &) {
+    value_error("parameter '" + name + "' must be a number, got " +
+                std::string(py::str(py::type::of(h).attr("__name__"))));
+  }
+}
+
+inline long long to_int(std::string const &name, py::handle h) {
+  if (py::isinstance<py::bool_>(h) || py::isinstance<py::float_>(h) || h.is_none() ||
+      py::isinstance<py::str>(h)) {
+    // integral floats (e.g. 3.0) are accepted, others are not
+    if (py::isinstance<py::float_>(h)) {
+      double const x = h.cast<double>();
+      if (std::isfinite(x) && x == std::floor(x) && std::abs(x) < 9e15)
+        return static_cast<long long>(x);
+    }
+    value_error("parameter '" + name + "' must be an integer");
+  }
+  try {
+    return py::int_(py::reinterpret_borrow<py::object>(h)).cast<long long>();
+  } catch (py::error_already_set &) {
+    value_error("parameter '" + name + "' must be an integer");
+  } catch (py::cast_error &) {
+    value_error("parameter '" + name + "' is out of the integer range");
+  }
+}
+
+inline Utils::Vector3d to_vec3(std::string const &name, py::handle h) {
+  py::array_t<double> a;
+  try {
+    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+  } catch (...) {
+  }
+  if (!a || a.ndim() != 1 || a.shape(0) != 3)
+    value_error("parameter '" + name + "' must be a sequence of 3 numbers");
+  Utils::Vector3d v{a.at(0), a.at(1), a.at(2)};
+  for (int d = 0; d < 3; ++d)
+    if (!std::isfinite(v[d]))
+      value_error("parameter '" + name + "' must be finite, got [" + Utils::to_str(v[0]) + ", " +
+                  Utils::to_str(v[1]) + ", " + Utils::to_str(v[2]) + "]");
+  return v;
+}
+
+/** Reject keys not in @p allowed. */
+inline void check_keys(std::string const &what, py::dict const &kw,
+                       std::vector<std::string> const &allowed) {
+  for (auto const &item : kw) {
+    auto const key = py::str(item.first).cast<std::string>();
+    bool found = false;
+    for (auto const &a : allowed)
+      found |= (a == key);
+    if (!found) {
+      std::string list;
+      for (auto const &a : allowed)
+        list += (list.empty() ? "" : ", ") + a;
+      value_error("unknown parameter '" + key + "' for " + what + " (allowed: " + list + ")");
+    }
+  }
+}
+
+inline bool has(py::dict const &kw, char const *key) { return kw.contains(key); }
+
+} // namespace ScriptInterface

@@ -1,0 +1,47 @@
+#pragma once
+// Counter-based noise (reference.md section 1): Philox4x64-10 from Random123.
+// The numbers depend only on (seed, salt, step, id_a, id_b): the same for a
+// pair whatever cell, thread or MPI rank evaluates it.
+#include "utils/Vector.hpp"
+
+#include <Random123/philox.h>
+
+#include <cstdint>
+
+namespace Utils {
+
+/** Salts: one independent stream per noise source. */
+enum class RNGSalt : std::uint64_t {
+  // lower case: the upper-case names are feature macros
+  dpd = 1,
+  marble = 2,
+  tunable_slip_wall = 3,
+  langevin = 4,
+};
+
+/** Four raw 64-bit words for counter @p step and keys. */
+inline r123::Philox4x64::ctr_type philox_4x64(std::uint64_t seed, RNGSalt salt,
+                                              std::uint64_t step, std::uint64_t id_a,
+                                              std::uint64_t id_b) {
+  using rng = r123::Philox4x64;
+  rng::ctr_type c{{step, id_a, id_b, static_cast<std::uint64_t>(salt)}};
+  rng::key_type k{{seed, 0x6d61726231ull /* "marb1" */}};
+  return rng{}(c, k);
+}
+
+/** Map a 64-bit word to the uniform distribution on (-1/2, 1/2]. */
+inline double u64_to_centered_uniform(std::uint64_t x) {
+  // 53 random bits -> (0, 1], then shift.
+  constexpr double two_m53 = 1.0 / 9007199254740992.0;
+  return (static_cast<double>(x >> 11) + 1.0) * two_m53 - 0.5;
+}
+
+/** Three independent uniform numbers in (-1/2, 1/2]; variance 1/12 each. */
+inline Vector3d noise_uniform(std::uint64_t seed, RNGSalt salt, std::uint64_t step,
+                              std::uint64_t id_a, std::uint64_t id_b) {
+  auto const r = philox_4x64(seed, salt, step, id_a, id_b);
+  return {u64_to_centered_uniform(r[0]), u64_to_centered_uniform(r[1]),
+          u64_to_centered_uniform(r[2])};
+}
+
+} // namespace Utils
