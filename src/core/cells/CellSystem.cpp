@@ -20,31 +20,18 @@ bool shift_positive(Vector3d const &s) {
   return false;
 }
 
-// Grid over the box extended by one cell layer on every side. Cells are at
-// least `range` wide, so all partners of a local are in the 27 cells around it.
-struct Grid {
-  std::array<int, 3> n{}, ext{};
-  Vector3d size{};
-  Grid(BoxGeometry const &box, double range) {
-    for (int d = 0; d < 3; ++d) {
-      n[d] = range > 0. ? std::max(1, static_cast<int>(box.length()[d] / range)) : 1;
-      // Cap the grid so memory stays bounded for tiny cutoffs.
-      n[d] = std::min(n[d], 256);
-      size[d] = box.length()[d] / n[d];
-      ext[d] = n[d] + 2;
-    }
-  }
-  int coord(double x, int d) const {
-    int c = static_cast<int>(std::floor(x / size[d])) + 1;
-    return std::clamp(c, 0, ext[d] - 1);
-  }
-  int index(Vector3d const &p) const {
-    return (coord(p[2], 2) * ext[1] + coord(p[1], 1)) * ext[0] + coord(p[0], 0);
-  }
-  int n_total() const { return ext[0] * ext[1] * ext[2]; }
-};
-
 } // namespace
+
+// Cells are at least `range` wide, so all partners of a local are in the 27
+// cells around it.
+CellSystem::Grid::Grid(BoxGeometry const &box, double range) {
+  for (int d = 0; d < 3; ++d) {
+    n[d] = range > 0. ? std::max(1, static_cast<int>(box.length()[d] / range)) : 1;
+    n[d] = std::min(n[d], 256); // bounded memory for tiny cutoffs
+    size[d] = box.length()[d] / n[d];
+    ext[d] = n[d] + 2;
+  }
+}
 
 void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   int const n = ps.n_local();
@@ -104,12 +91,20 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) const {
 
 void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   m_pairs.clear();
+  m_cell_start.clear();
+  m_cell_members.clear();
   if (m_range <= 0.)
     return;
-  Grid const g(box, m_range);
+  m_grid = Grid(box, m_range);
+  Grid const &g = m_grid;
   m_n_cells = g.n;
   int const n_all = ps.size(), n_local = ps.n_local();
-  std::vector<int> cell(n_all), start(g.n_total() + 1, 0), members(n_all);
+  m_n_local_at_build = n_local;
+  std::vector<int> cell(n_all);
+  auto &start = m_cell_start;
+  auto &members = m_cell_members;
+  start.assign(g.n_total() + 1, 0);
+  members.resize(n_all);
   for (int i = 0; i < n_all; ++i) {
     cell[i] = g.index(ps.pos[i]);
     ++start[cell[i] + 1];

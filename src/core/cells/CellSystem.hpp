@@ -10,7 +10,9 @@
 #include "box/BoxGeometry.hpp"
 #include "particles/ParticleStore.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace Marble {
@@ -36,6 +38,48 @@ public:
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
 
   std::vector<std::array<int, 2>> const &pairs() const { return m_pairs; }
+
+  /** Visit every local particle index whose cell overlaps the sphere of
+   * @p radius around @p center (a superset of the particles within radius).
+   * Valid after rebuild(); @p center may lie outside the box (periodic images
+   * of large particles). Used by the colloid neighbour search, which thus
+   * never enlarges the solvent's cells. */
+  template <typename F>
+  void for_each_local_near(Utils::Vector3d const &center, double radius, F &&fn) const {
+    if (m_cell_start.empty())
+      return;
+    std::array<int, 3> lo{}, hi{};
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::max(1, m_grid.coord(center[d] - radius, d));
+      hi[d] = std::min(m_grid.n[d], m_grid.coord(center[d] + radius, d));
+      if (lo[d] > hi[d])
+        return;
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          int const c = (z * m_grid.ext[1] + y) * m_grid.ext[0] + x;
+          for (int k = m_cell_start[c]; k < m_cell_start[c + 1]; ++k)
+            if (m_cell_members[k] < m_n_local_at_build)
+              fn(m_cell_members[k]);
+        }
+  }
+
+  /** Regular grid over the box plus one layer of ghost cells on each side. */
+  struct Grid {
+    std::array<int, 3> n{1, 1, 1}, ext{3, 3, 3};
+    Utils::Vector3d size{1., 1., 1.};
+    Grid() = default;
+    Grid(BoxGeometry const &box, double range);
+    int coord(double x, int d) const {
+      double const c = std::floor(x / size[d]) + 1.;
+      return static_cast<int>(std::clamp(c, 0., static_cast<double>(ext[d] - 1)));
+    }
+    int index(Utils::Vector3d const &p) const {
+      return (coord(p[2], 2) * ext[1] + coord(p[1], 1)) * ext[0] + coord(p[0], 0);
+    }
+    int n_total() const { return ext[0] * ext[1] * ext[2]; }
+  };
   std::array<int, 3> const &n_cells() const { return m_n_cells; }
   long n_rebuilds() const { return m_n_rebuilds; }
 
@@ -50,6 +94,9 @@ private:
   long m_n_rebuilds = 0;
   std::array<int, 3> m_n_cells{1, 1, 1};
   std::vector<std::array<int, 2>> m_pairs;
+  Grid m_grid;
+  std::vector<int> m_cell_start, m_cell_members; // all particles (locals + ghosts) by cell
+  int m_n_local_at_build = 0;
 };
 
 } // namespace Marble

@@ -118,6 +118,9 @@ int System::run_vv(int n_steps) {
       throw;
     }
     kick(0.5 * m_time_step);
+    for (auto const &acc : m_auto_update)
+      if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
+        acc->update(*this);
   }
   return n_steps;
 }

@@ -7,10 +7,22 @@
 #include "thermostats/Thermostat.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace Marble {
+
+class System;
+
+/** Something updated automatically during integration (accumulators,
+ * correlators): update() is called after every step whose number is a
+ * multiple of delta_N. */
+struct AutoUpdate {
+  virtual ~AutoUpdate() = default;
+  virtual void update(System &system) = 0;
+  int delta_N = 1;
+};
 
 enum class IntegratorKind { VelocityVerlet, SteepestDescent };
 
@@ -78,6 +90,9 @@ public:
   /** Integrate @p n_steps; returns the number of steps done. Throws Utils::RuntimeError. */
   int run(int n_steps, bool recalc_forces = false);
 
+  /** Objects updated during run(): see AutoUpdate. */
+  std::vector<std::shared_ptr<AutoUpdate>> &auto_update() { return m_auto_update; }
+
   // --- analysis ---
   CellSystem &cells() { return m_cells; }
   /** Make sure the Verlet list matches the current positions and interactions. */
@@ -117,6 +132,7 @@ private:
   std::uint64_t m_step = 0;
   bool m_forces_valid = false;
   double m_cut_at_rebuild = -1.;
+  std::vector<std::shared_ptr<AutoUpdate>> m_auto_update;
 };
 
 } // namespace Marble
