@@ -8,3 +8,5 @@
 #define HAT
 #define DPD
 #define TRANS_DPD
+#define MARBLE
+#define TUNABLE_SLIP

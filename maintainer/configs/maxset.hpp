@@ -7,3 +7,5 @@
 #define DPD
 #define TRANS_DPD
 #define DPD_MASS_RED
+#define MARBLE
+#define TUNABLE_SLIP

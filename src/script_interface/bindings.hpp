@@ -9,4 +9,7 @@ using namespace pybind11::literals;
 void bind_particles(py::class_<Marble::System> &cls);
 void bind_interactions(py::class_<Marble::System> &cls);
 void bind_system(py::class_<Marble::System> &cls);
+void bind_marble(py::class_<Marble::System> &cls);
+void bind_constraints(py::class_<Marble::System> &cls);
+void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls);
 } // namespace ScriptInterface

@@ -10,6 +10,10 @@
 #include <string>
 #include <vector>
 
+namespace ScriptInterface {
+void bind_dpd(pybind11::class_<Marble::System> &cls); // dpd.cpp
+}
+
 namespace {
 std::vector<std::string> split(std::string const &s) {
   std::istringstream in(s);
@@ -41,4 +45,8 @@ PYBIND11_MODULE(_marble, m) {
   ScriptInterface::bind_system(cls);
   ScriptInterface::bind_particles(cls);
   ScriptInterface::bind_interactions(cls);
+  ScriptInterface::bind_marble(cls);
+  ScriptInterface::bind_constraints(cls);
+  ScriptInterface::bind_dpd(cls);
+  ScriptInterface::bind_accumulators(m, cls);
 }

@@ -71,7 +71,8 @@ std::map<std::string, PropInfo> const &properties() {
   return props;
 }
 
-PropInfo const &lookup(std::string const &name) {
+// Without MASS every particle has mass 1: reading it is allowed, setting is not.
+PropInfo const &lookup(std::string const &name, bool for_read = false) {
   auto const &props = properties();
   auto it = props.find(name);
   if (it == props.end()) {
@@ -80,7 +81,7 @@ PropInfo const &lookup(std::string const &name) {
       list += (list.empty() ? "" : ", ") + kv.first;
     value_error("unknown particle property '" + name + "' (known: " + list + ")");
   }
-  if (!it->second.compiled)
+  if (!it->second.compiled && !(for_read && name == "mass"))
     throw Utils::FeaturesError(it->second.feature, "particle property '" + name + "'");
   return it->second;
 }
@@ -90,7 +91,9 @@ py::array_t<double> as_rows(std::string const &name, py::handle value, int width
   py::array_t<double> a;
   try {
     auto np = py::module_::import("numpy");
-    a = np.attr("asarray")(value, "dtype"_a = "float64");
+    // C order: apply() reads each row as width contiguous doubles (a transposed
+    // or strided input, e.g. meshgrid(...).reshape(3, -1).T, is copied).
+    a = np.attr("asarray")(value, "dtype"_a = "float64", "order"_a = "C");
   } catch (py::error_already_set &) {
     value_error("particle property '" + name + "' must be numeric");
   }
@@ -215,8 +218,8 @@ void bind_particles(py::class_<System> &cls) {
       auto r = rows.unchecked<2>();
       for (int k = 0; k < n; ++k) {
         double const x = r(k, 0);
-        if (!(x >= 0 && x < 2e9 && x == std::floor(x)))
-          value_error("particle property 'id' must be an integer >= 0, got " + Utils::to_str(x));
+        if (!(x >= 0 && x < 1e8 && x == std::floor(x))) // the id map is dense
+          value_error("particle property 'id' must be an integer in [0, 1e8), got " + Utils::to_str(x));
         ids[k] = static_cast<int>(x);
       }
     } else {
@@ -254,7 +257,7 @@ void bind_particles(py::class_<System> &cls) {
   });
 
   cls.def("get_property", [](System &s, std::string const &name, py::object ids_obj) {
-    auto const &info = lookup(name);
+    auto const &info = lookup(name, true);
     auto const ids = ids_from(ids_obj);
     auto const &ps = s.particles();
     auto const n = static_cast<py::ssize_t>(ids.size());
@@ -367,7 +370,7 @@ void bind_particles(py::class_<System> &cls) {
       s.remove_particle(pid);
   });
   cls.def("clear_particles", &System::clear_particles);
-  cls.def("property_names", [] {
+  cls.def_static("property_names", [] {
     std::vector<std::string> out;
     for (auto const &kv : properties())
       if (kv.second.compiled)

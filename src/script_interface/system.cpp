@@ -58,10 +58,12 @@ void bind_system(py::class_<System> &cls) {
   cls.def_property(
       "skin", [](System const &s) { return s.skin(); },
       [](System &s, py::object v) {
-        double const skin = check_double("skin", to_double("skin", v), 0., INFINITY);
+        // > 0: a step that moves a particle farther than the skin is refused
+        // as a blow-up (integrate.cpp), so a zero skin could never integrate.
+        double const skin = check_double("skin", to_double("skin", v), 0., INFINITY, true);
         double const lmin = std::min({s.box().length()[0], s.box().length()[1], s.box().length()[2]});
         if (skin > 0.5 * lmin)
-          value_error("parameter 'skin' must be in [0, box_l/2], got " + Utils::to_str(skin));
+          value_error("parameter 'skin' must be in (0, box_l/2], got " + Utils::to_str(skin));
         s.set_skin(skin);
       });
   cls.def("n_rebuilds", [](System &s) { return s.cells().n_rebuilds(); });

@@ -57,6 +57,18 @@ Energies System::energies() {
     e.non_bonded += u;
     e.non_bonded_pairs[std::min(ti, tj) * nt + std::max(ti, tj)] += u;
   }
+  e.non_bonded += m_constraints.energy(m_ps, m_box, m_ia);
+#ifdef MARBLE
+  {
+    std::vector<double> eu(e.non_bonded_pairs.size(), 0.);
+    std::array<double, 9> vir{};
+    m_colloids.conservative(m_ps, m_ia, eu, vir);
+    for (std::size_t k = 0; k < eu.size(); ++k) {
+      e.non_bonded_pairs[k] += eu[k];
+      e.non_bonded += eu[k];
+    }
+  }
+#endif
   return e;
 }
 
@@ -81,6 +93,15 @@ PressureTensor System::pressure_tensor() {
       for (int b = 0; b < 3; ++b)
         p.non_bonded[3 * a + b] += fac * d[a] * d[b] / V;
   }
+#ifdef MARBLE
+  {
+    std::vector<double> eu(static_cast<std::size_t>(m_ia.n_types()) * m_ia.n_types(), 0.);
+    std::array<double, 9> vir{};
+    m_colloids.conservative(m_ps, m_ia, eu, vir);
+    for (int k = 0; k < 9; ++k)
+      p.non_bonded[k] += vir[k] / V;
+  }
+#endif
   return p;
 }
 

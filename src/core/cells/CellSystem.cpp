@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace Marble {
 
@@ -66,29 +69,36 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) const {
   for (int d = 0; d < 3; ++d)
     nimg[d] = box.periodic(d) ? static_cast<int>(std::ceil(m_range / box.length()[d])) : 0;
   auto const &L = box.length();
+  // Only images with a positive shift: the pair list never uses the others
+  // (build_pairs keeps the local-ghost pair whose ghost shift is positive), so
+  // creating them would only cost ghost updates and force reductions.
+  std::vector<Vector3d> shifts;
+  for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
+    for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
+      for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
+        Vector3d const sh{sx * L[0], sy * L[1], sz * L[2]};
+        if (shift_positive(sh))
+          shifts.push_back(sh);
+      }
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
-    for (int sx = -nimg[0]; sx <= nimg[0]; ++sx) {
-      double const x = p[0] + sx * L[0];
-      if (x < -m_range || x >= L[0] + m_range)
+    for (auto const &sh : shifts) {
+      Vector3d const q = p + sh;
+      if (q[0] < -m_range || q[0] >= L[0] + m_range || q[1] < -m_range ||
+          q[1] >= L[1] + m_range || q[2] < -m_range || q[2] >= L[2] + m_range)
         continue;
-      for (int sy = -nimg[1]; sy <= nimg[1]; ++sy) {
-        double const y = p[1] + sy * L[1];
-        if (y < -m_range || y >= L[1] + m_range)
-          continue;
-        for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
-          if (sx == 0 && sy == 0 && sz == 0)
-            continue;
-          double const z = p[2] + sz * L[2];
-          if (z < -m_range || z >= L[2] + m_range)
-            continue;
-          ps.add_ghost(i, {sx * L[0], sy * L[1], sz * L[2]});
-        }
-      }
+      ps.add_ghost(i, sh);
     }
   }
 }
 
+// The list order (and so the force summation order) is: locals i ascending;
+// for each, the 27 neighbour cells in (dz, dy, dx) order; in each cell its
+// locals ascending, then its ghosts ascending. Since locals are sorted by cell,
+// a neighbour cell below i's cell holds only locals < i, and in i's own cell
+// the locals > i follow i directly: whole ranges are skipped instead of
+// testing j > i per candidate. Candidates are read from a cell-ordered copy of
+// the positions and appended without a branch.
 void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   m_pairs.clear();
   m_cell_start.clear();
@@ -99,48 +109,112 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   Grid const &g = m_grid;
   m_n_cells = g.n;
   int const n_all = ps.size(), n_local = ps.n_local();
+  int const n_cells = g.n_total();
   m_n_local_at_build = n_local;
   std::vector<int> cell(n_all);
   auto &start = m_cell_start;
   auto &members = m_cell_members;
-  start.assign(g.n_total() + 1, 0);
+  start.assign(n_cells + 1, 0);
   members.resize(n_all);
   for (int i = 0; i < n_all; ++i) {
     cell[i] = g.index(ps.pos[i]);
     ++start[cell[i] + 1];
   }
-  for (int c = 0; c < g.n_total(); ++c)
+  for (int c = 0; c < n_cells; ++c)
     start[c + 1] += start[c];
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int i = 0; i < n_all; ++i)
-      members[fill[cell[i]]++] = i;
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int i = 0; i < n_local; ++i)
+    members[fill[cell[i]]++] = i;
+  std::vector<int> ghost_begin(fill); // locals of cell c: [start[c], ghost_begin[c])
+  for (int i = n_local; i < n_all; ++i)
+    members[fill[cell[i]]++] = i;
+  // Cell-ordered coordinates, one array per axis: contiguous reads below.
+  std::vector<double> mx(n_all + 1), my(n_all + 1), mz(n_all + 1);
+  for (int k = 0; k < n_all; ++k) {
+    auto const &p = ps.pos[members[k]];
+    mx[k] = p[0];
+    my[k] = p[1];
+    mz[k] = p[2];
   }
+
   double const range2 = m_range * m_range;
-  m_pairs.reserve(static_cast<std::size_t>(n_local) * 24);
-  int const sx = 1, sy = g.ext[0], sz = g.ext[0] * g.ext[1];
-  for (int i = 0; i < n_local; ++i) {
-    int const ci = cell[i];
-    Vector3d const pi = ps.pos[i];
+  std::array<int, 27> offsets{};
+  {
+    int const sy = g.ext[0], sz = g.ext[0] * g.ext[1];
+    int q = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int const cj = ci + dx * sx + dy * sy + dz * sz;
-          if (cj < 0 || cj >= g.n_total())
-            continue;
-          for (int k = start[cj]; k < start[cj + 1]; ++k) {
-            int const j = members[k];
-            if (j < n_local) {
-              if (j <= i)
-                continue;
-            } else if (!shift_positive(ps.ghost_shift[j - n_local])) {
-              continue;
-            }
-            if ((pi - ps.pos[j]).norm2() < range2)
-              m_pairs.push_back({i, j});
-          }
-        }
+        for (int dx = -1; dx <= 1; ++dx)
+          offsets[q++] = dx + dy * sy + dz * sz;
   }
+  // For each cell holding locals, the candidate ranges of `members` in list
+  // order, merged where contiguous (the three cells of a stencil row are
+  // adjacent in memory). kSelf marks the range that starts after i itself.
+  constexpr int kSelf = -1;
+  std::vector<std::array<int, 2>> ranges;
+  ranges.reserve(27);
+  std::size_t n_pairs = 0;
+  m_pairs.resize(std::max<std::size_t>(1024, static_cast<std::size_t>(n_local) * 24));
+  for (int i_begin = 0; i_begin < n_local;) {
+    int const ci = cell[i_begin];
+    int i_end = i_begin;
+    while (i_end < n_local && cell[i_end] == ci)
+      ++i_end;
+    ranges.clear();
+    for (int const off : offsets) {
+      int const cj = ci + off;
+      if (cj < 0 || cj >= n_cells)
+        continue;
+      int const k0 = cj < ci ? ghost_begin[cj] : (cj == ci ? kSelf : start[cj]);
+      int const k1 = start[cj + 1];
+      if (k0 != kSelf && k1 <= k0)
+        continue;
+      if (!ranges.empty() && k0 != kSelf && ranges.back()[1] == k0)
+        ranges.back()[1] = k1;
+      else
+        ranges.push_back({k0, k1});
+    }
+    std::size_t max_cand = 0;
+    for (auto const &r : ranges)
+      max_cand += static_cast<std::size_t>(r[1] - (r[0] == kSelf ? start[ci] : r[0]));
+    for (int i = i_begin; i < i_end; ++i) {
+      if (m_pairs.size() < n_pairs + max_cand)
+        m_pairs.resize(2 * m_pairs.size() + max_cand);
+      auto *const out = m_pairs.data();
+      Vector3d const pi = ps.pos[i];
+      int const self_k = start[ci] + (i - i_begin); // i's slot in its cell
+#ifdef __SSE2__
+      __m128d const px = _mm_set1_pd(pi[0]), py = _mm_set1_pd(pi[1]), pz = _mm_set1_pd(pi[2]);
+      __m128d const r2v = _mm_set1_pd(range2);
+#endif
+      for (auto const &r : ranges) {
+        int k = r[0] == kSelf ? self_k + 1 : r[0];
+        int const k1 = r[1];
+#ifdef __SSE2__
+        // two candidates at a time (same arithmetic as the scalar test)
+        for (; k + 1 < k1; k += 2) {
+          __m128d const dx = _mm_sub_pd(px, _mm_loadu_pd(mx.data() + k));
+          __m128d const dy = _mm_sub_pd(py, _mm_loadu_pd(my.data() + k));
+          __m128d const dz = _mm_sub_pd(pz, _mm_loadu_pd(mz.data() + k));
+          __m128d const d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)),
+                                        _mm_mul_pd(dz, dz));
+          int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
+          out[n_pairs] = {i, members[k]};
+          n_pairs += static_cast<std::size_t>(mask & 1);
+          out[n_pairs] = {i, members[k + 1]};
+          n_pairs += static_cast<std::size_t>(mask >> 1);
+        }
+#endif
+        for (; k < k1; ++k) {
+          double const dx = pi[0] - mx[k], dy = pi[1] - my[k], dz = pi[2] - mz[k];
+          out[n_pairs] = {i, members[k]};
+          n_pairs += (dx * dx + dy * dy + dz * dz < range2) ? 1 : 0;
+        }
+      }
+    }
+    i_begin = i_end;
+  }
+  m_pairs.resize(n_pairs);
 }
 
 void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut) {

@@ -5,7 +5,10 @@
 #include "utils/errors.hpp"
 #include "utils/noise.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace Marble {
 
@@ -18,56 +21,122 @@ struct ThermoContext {
   std::uint64_t seed = 0, counter = 0;
 };
 
+// Per-type-pair data the loop needs for every listed pair, in small dense
+// tables (the full IAParams is only read for pairs within range).
+struct PairTables {
+  int n = 0;
+  std::vector<double> cut2;
+  std::vector<char> dpd_on;
+  explicit PairTables(InteractionTable const &ia) : n(ia.n_types()) {
+    cut2.resize(static_cast<std::size_t>(n) * n);
+    dpd_on.resize(cut2.size());
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        auto const &p = ia.get(a, b);
+        cut2[a * n + b] = p.max_cut2;
+#ifdef DPD
+        dpd_on[a * n + b] = p.dpd.active;
+#else
+        dpd_on[a * n + b] = 0;
+#endif
+      }
+  }
+};
+
+// The list is processed in blocks of kBlock pairs, in three passes that keep
+// the list order (so the force summation order, and the trajectory, are
+// bit-for-bit those of a plain one-pass loop):
+//   1. select the pairs within their cutoff, without a branch (about half of
+//      the listed pairs are outside: a branch there is mispredicted often);
+//   2. draw the Philox noise of the selected pairs: independent iterations
+//      that the CPU overlaps (the noise is the single largest cost);
+//   3. evaluate the kernels and accumulate the forces.
+constexpr int kBlock = 512;
+
 template <bool LJ_ON, bool HAT_ON, bool DPD_ON>
 void pair_loop(ParticleStore &ps, std::vector<std::array<int, 2>> const &pairs,
                InteractionTable const &ia, ThermoContext const &th) {
   (void)th;
-  auto *const pos = ps.pos.data();
-  auto *const vel = ps.v.data();
+  auto const *const pos = ps.pos.data();
+  [[maybe_unused]] auto const *const vel = ps.v.data();
   auto *const frc = ps.f.data();
   auto const *const typ = ps.type.data();
   [[maybe_unused]] auto const *const pid = ps.id.data();
-  for (auto const &pr : pairs) {
-    int const i = pr[0], j = pr[1];
-    IAParams const &p = ia.get(typ[i], typ[j]);
-    Vector3d const d = pos[i] - pos[j];
-    double const r2 = d.norm2();
-    if (r2 >= p.max_cut2)
-      continue;
-    double const r = std::sqrt(r2);
-    double fac = 0.;
-#ifdef LENNARD_JONES
-    if constexpr (LJ_ON)
-      if (p.lj.active)
-        fac += p.lj.force_over_r(r);
-#endif
-#ifdef HAT
-    if constexpr (HAT_ON)
-      if (p.hat.active)
-        fac += p.hat.force_over_r(r);
-#endif
-    Vector3d force = fac * d;
+  PairTables const tab(ia);
+  int const nt = tab.n;
+  bool const one_type = nt == 1;
+  double const cut2_0 = nt > 0 ? tab.cut2[0] : 0.;
+  auto const *const pr = pairs.data();
+  std::size_t const n_pairs = pairs.size();
+  std::array<int, kBlock> sel;
+  [[maybe_unused]] std::array<Vector3d, kBlock> xi;
+  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kBlock) {
+    int const nb = static_cast<int>(std::min<std::size_t>(kBlock, n_pairs - b0));
+    auto const *const blk = pr + b0;
+    // 1. pairs within range
+    int m = 0;
+    if (one_type) {
+      for (int q = 0; q < nb; ++q) {
+        Vector3d const d = pos[blk[q][0]] - pos[blk[q][1]];
+        sel[m] = q;
+        m += d.norm2() < cut2_0 ? 1 : 0;
+      }
+    } else {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        Vector3d const d = pos[i] - pos[j];
+        sel[m] = q;
+        m += d.norm2() < tab.cut2[typ[i] * nt + typ[j]] ? 1 : 0;
+      }
+    }
 #ifdef DPD
+    // 2. noise of the unordered pair; the sign follows id order so F_j = -F_i
     if constexpr (DPD_ON) {
-      if (p.dpd.active && r > 0.) {
-        // Noise of the unordered pair; the sign follows id order so F_j = -F_i.
+      for (int s = 0; s < m; ++s) {
+        int const i = blk[sel[s]][0], j = blk[sel[s]][1];
+        if (!one_type && !tab.dpd_on[typ[i] * nt + typ[j]])
+          continue;
         int const a = pid[i], b = pid[j];
-        Vector3d xi = a < b ? Utils::noise_uniform(th.seed, Utils::RNGSalt::dpd, th.counter,
-                                                   static_cast<std::uint64_t>(a),
-                                                   static_cast<std::uint64_t>(b))
-                            : -Utils::noise_uniform(th.seed, Utils::RNGSalt::dpd, th.counter,
-                                                    static_cast<std::uint64_t>(b),
-                                                    static_cast<std::uint64_t>(a));
-        double mfac = 1.;
-#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-        mfac = dpd_mass_factor(ps.mass[i], ps.mass[j]);
-#endif
-        force += dpd_pair_force(p.dpd, d, r, vel[i] - vel[j], xi, mfac);
+        bool const flip = !(a < b);
+        Vector3d const x = Utils::noise_uniform(
+            th.seed, Utils::RNGSalt::dpd, th.counter, static_cast<std::uint64_t>(flip ? b : a),
+            static_cast<std::uint64_t>(flip ? a : b));
+        xi[s] = flip ? -x : x;
       }
     }
 #endif
-    frc[i] += force;
-    frc[j] -= force;
+    // 3. kernels
+    for (int s = 0; s < m; ++s) {
+      int const i = blk[sel[s]][0], j = blk[sel[s]][1];
+      IAParams const &p = ia.get(typ[i], typ[j]);
+      Vector3d const d = pos[i] - pos[j];
+      double const r = std::sqrt(d.norm2());
+      double fac = 0.;
+#ifdef LENNARD_JONES
+      if constexpr (LJ_ON)
+        if (p.lj.active)
+          fac += p.lj.force_over_r(r);
+#endif
+#ifdef HAT
+      if constexpr (HAT_ON)
+        if (p.hat.active)
+          fac += p.hat.force_over_r(r);
+#endif
+      Vector3d force = fac * d;
+#ifdef DPD
+      if constexpr (DPD_ON) {
+        if (p.dpd.active && r > 0.) {
+          double mfac = 1.;
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+          mfac = dpd_mass_factor(ps.mass[i], ps.mass[j]);
+#endif
+          force += dpd_pair_force(p.dpd, d, r, vel[i] - vel[j], xi[s], mfac);
+        }
+      }
+#endif
+      frc[i] += force;
+      frc[j] -= force;
+    }
   }
 }
 
@@ -102,6 +171,7 @@ void System::compute_forces(bool with_thermostat) {
 #endif
   int const mask = (k.lj ? 1 : 0) | (k.hat ? 2 : 0) | ((k.dpd && th.on) ? 4 : 0);
   loops[mask](m_ps, m_cells.pairs(), m_ia, th);
+  add_extra_forces(with_thermostat); // colloid pairs, constraints
   m_cells.reduce_ghost_forces(m_ps);
 #ifdef EXTERNAL_FORCE
   for (int i = 0; i < m_ps.n_local(); ++i) {

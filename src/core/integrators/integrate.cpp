@@ -88,6 +88,7 @@ void System::drift_checked() {
 }
 
 int System::run(int n_steps, bool recalc_forces) {
+  check_scene_before_run();
   if (m_integrator == IntegratorKind::SteepestDescent)
     return run_sd(n_steps);
   if (recalc_forces)

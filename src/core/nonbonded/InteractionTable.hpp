@@ -21,8 +21,9 @@ struct IAParams {
 #ifdef DPD
   DPDParams dpd;
 #endif
-  double max_cut = 0.; // largest cutoff of the active kernels
-  double max_cut2 = 0.;
+  double max_cut = 0.;  // largest cutoff of the active kernels
+  double max_cut2 = 0.; // square of the range served by the main Verlet list
+                        // (0 for pairs with a large particle type: see Colloids)
 
   void update_cutoff() {
     max_cut = 0.;
@@ -46,7 +47,7 @@ struct KernelMask {
 
 class InteractionTable {
 public:
-  static constexpr int max_type = 1000;
+  static constexpr int max_type = 256; // the tables are dense: n_types^2 entries
   int n_types() const { return m_n; }
   /** Grow the table so that type @p t exists. */
   void ensure_type(int t) {
@@ -59,7 +60,15 @@ public:
         p[i * n + j] = m_p[i * m_n + j];
     m_p.swap(p);
     m_n = n;
+    m_large.resize(n, 0);
   }
+  /** Types whose pairs are served by the colloid pair list, not the main one. */
+  void set_large_types(std::vector<char> const &large) {
+    m_large = large;
+    m_large.resize(m_n, 0);
+    refresh();
+  }
+  bool is_large(int t) const { return t < static_cast<int>(m_large.size()) && m_large[t]; }
   IAParams &get(int i, int j) { return m_p[i * m_n + j]; }
   IAParams const &get(int i, int j) const { return m_p[i * m_n + j]; }
   /** Write @p p for (i, j) and (j, i). */
@@ -68,11 +77,15 @@ public:
     p.update_cutoff();
     m_p[i * m_n + j] = p;
     m_p[j * m_n + i] = p;
+    refresh();
   }
+  /** Range of the main Verlet list: pairs of large types excluded. */
   double max_cutoff() const {
     double c = 0.;
-    for (auto const &p : m_p)
-      c = std::max(c, p.max_cut);
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j)
+        if (!is_large(i) && !is_large(j))
+          c = std::max(c, m_p[i * m_n + j].max_cut);
     return c;
   }
   KernelMask kernels() const {
@@ -93,12 +106,21 @@ public:
   std::vector<IAParams> &all() { return m_p; }
   void clear() {
     m_p.clear();
+    m_large.clear();
     m_n = 0;
   }
 
 private:
+  void refresh() {
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j) {
+        auto &p = m_p[i * m_n + j];
+        p.max_cut2 = (is_large(i) || is_large(j)) ? 0. : p.max_cut * p.max_cut;
+      }
+  }
   int m_n = 0;
   std::vector<IAParams> m_p;
+  std::vector<char> m_large;
 };
 
 } // namespace Marble

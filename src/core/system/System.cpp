@@ -44,6 +44,7 @@ void System::clear_particles() {
 
 void System::set_interaction(int i, int j, IAParams const &p) {
   m_ia.set(i, j, p);
+  refresh_large_types();
   update_thermostat_prefactors();
   on_particle_change(); // the cutoff may have changed
 }
@@ -61,14 +62,89 @@ void System::update_thermostat_prefactors() {
     pref(p.dpd.trans);
 #endif
   }
+#ifdef MARBLE
+  m_colloids.update_prefactors(kT, dt);
+#endif
+  m_constraints.update_prefactors(kT, dt);
+#endif
+}
+
+void System::refresh_large_types() {
+  int const n = m_ia.n_types();
+  auto large = m_constraints.wall_types(n);
+#ifdef MARBLE
+  auto const &col = m_colloids.colloid_types();
+  for (int t = 0; t < n && t < static_cast<int>(col.size()); ++t)
+    large[t] = large[t] || col[t];
+#endif
+  m_ia.set_large_types(large);
+}
+
+void System::on_constraints_change() {
+  for (auto const &w : m_constraints.walls())
+    m_ia.ensure_type(w.type);
+  refresh_large_types();
+  update_thermostat_prefactors();
+  on_particle_change();
+}
+
+void System::set_periodic(int d, bool p) {
+  m_box.set_periodic(d, p);
+  on_particle_change();
+}
+
+#ifdef MARBLE
+void System::set_marble(int c, int s, MarbleParams const &p) {
+  m_ia.ensure_type(std::max(c, s));
+  m_colloids.set(c, s, p);
+  refresh_large_types();
+  update_thermostat_prefactors();
+  on_particle_change();
+}
+#endif
+
+void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
+#ifdef MARBLE
+  if (m_colloids.any()) {
+    NoiseContext noise;
+    noise.on = with_thermostat && m_thermo.dpd.active;
+    noise.seed = m_thermo.dpd.seed;
+    noise.counter = m_thermo.dpd.philox_counter;
+    m_colloids.add_forces(m_ps, m_ia, noise);
+  }
+#endif
+  if (!m_constraints.empty()) {
+    WallNoise noise;
+#ifdef DPD
+    noise.on = with_thermostat && m_thermo.dpd.active;
+    noise.seed = m_thermo.dpd.seed;
+    noise.counter = m_thermo.dpd.philox_counter;
+#endif
+    m_constraints.add_forces(m_ps, m_box, m_ia, noise, m_step);
+  }
+}
+
+void System::check_scene_before_run() const {
+#ifdef MARBLE
+  auto const msg = m_colloids.check_rotation(m_ps);
+  if (!msg.empty())
+    throw Utils::RuntimeError("cannot integrate: " + msg);
 #endif
 }
 
 void System::ensure_lists() {
-  double const cut = m_ia.max_cutoff();
+  double cut = m_ia.max_cutoff();
+#ifdef MARBLE
+  // The colloid search needs a cell grid even if the solvent has no pair interaction.
+  if (cut <= 0. && m_colloids.any())
+    cut = 1.;
+#endif
   if (!m_cells.valid() || cut != m_cut_at_rebuild || m_cells.displacement_exceeds_half_skin(m_ps)) {
     m_cells.rebuild(m_ps, m_box, cut);
     m_cut_at_rebuild = cut;
+#ifdef MARBLE
+    m_colloids.rebuild(m_ps, m_box, m_cells, m_ia);
+#endif
   } else {
     m_cells.update_ghosts(m_ps);
   }

@@ -2,9 +2,13 @@
 // The System owns everything a simulation needs; there is no global state.
 #include "box/BoxGeometry.hpp"
 #include "cells/CellSystem.hpp"
+#include "constraints/Constraints.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
 #include "thermostats/Thermostat.hpp"
+#ifdef MARBLE
+#include "marble/Colloids.hpp"
+#endif
 
 #include <cstdint>
 #include <memory>
@@ -40,6 +44,12 @@ struct Energies {
 /** Pressure tensor parts (already divided by the volume). */
 struct PressureTensor {
   std::array<double, 9> kinetic{}, non_bonded{}, dpd{};
+};
+
+/** DPD pair-force contribution to the pressure tensor, split into friction
+ * and noise (already divided by the volume; analysis/dpd_stress.cpp). */
+struct DPDStress {
+  std::array<double, 9> friction{}, noise{};
 };
 
 class System {
@@ -99,6 +109,8 @@ public:
   void ensure_lists();
   Energies energies();
   PressureTensor pressure_tensor();
+  /** DPD contribution sum d (x) F_DPD / V with the current velocities and noise. */
+  DPDStress dpd_stress();
   Utils::Vector3d linear_momentum() const;
   Utils::Vector3d angular_momentum_spin() const;
   Utils::Vector3d center_of_mass() const;
@@ -106,6 +118,22 @@ public:
   /** Minimum pair distance between particles of types in @p t1 and @p t2 (empty = all). */
   double min_dist(std::vector<int> const &t1, std::vector<int> const &t2);
   Utils::Vector3d distance_vec(int pid1, int pid2) const;
+
+#ifdef MARBLE
+  Colloids const &colloids() const { return m_colloids; }
+  /** Marble coupling of colloid type @p c with solvent type @p s (validated by the caller). */
+  void set_marble(int c, int s, MarbleParams const &p);
+#endif
+  Constraints &constraints() { return m_constraints; }
+  /** Call after adding/removing walls: their types leave the main Verlet list. */
+  void on_constraints_change();
+  void set_periodic(int d, bool p);
+
+  /** Forces beyond the main pair loop (colloid pairs, constraints); called
+   * by compute_forces() after the pair loop. */
+  void add_extra_forces(bool with_thermostat);
+  /** Throws Utils::RuntimeError if the scene cannot be integrated. */
+  void check_scene_before_run() const;
 
   // --- force evaluation (used by the integrators and tests) ---
   void compute_forces(bool with_thermostat);
@@ -133,6 +161,11 @@ private:
   bool m_forces_valid = false;
   double m_cut_at_rebuild = -1.;
   std::vector<std::shared_ptr<AutoUpdate>> m_auto_update;
+  Constraints m_constraints;
+  void refresh_large_types();
+#ifdef MARBLE
+  Colloids m_colloids;
+#endif
 };
 
 } // namespace Marble

@@ -6,6 +6,7 @@
 from ._marble import FeaturesError
 from .code_features import features, has_features, all_features, assert_features
 from .system import System
+from . import shapes, colloids  # noqa: F401  (marble.shapes.Wall, marble.colloids.add_marble)
 
 __version__ = "0.1.0"
 __all__ = ["System", "FeaturesError", "features", "has_features", "all_features",

@@ -1,6 +1,27 @@
 """Analysis of the current state: ``system.analysis``."""
 import numpy as np
 
+from .code_features import has_features
+
+
+def _masses(parts):
+    """Masses of a ParticleSlice: 1 for every particle in a build without MASS."""
+    return parts.mass if has_features("MASS") else np.ones(len(parts))
+
+
+def _type_list(types, name):
+    """Particle types as a list of ints (ValueError for anything else, e.g. 0.5)."""
+    try:
+        arr = np.asarray(types)
+    except Exception:  # noqa: BLE001
+        arr = np.asarray([None])
+    if arr.ndim == 1 and arr.size == 0:
+        return []
+    if arr.ndim != 1 or arr.dtype.kind not in "iu" or np.any(arr < 0):
+        raise ValueError(f"parameter '{name}' must be a list of particle types "
+                         f"(integers >= 0), got {types!r}")
+    return [int(t) for t in arr]
+
 
 class Analysis:
     def __init__(self, system):
@@ -20,6 +41,14 @@ class Analysis:
         """Scalar pressures (trace / 3 of the tensors)."""
         return {k: float(np.trace(v)) / 3.0 for k, v in self.pressure_tensor().items()}
 
+    def dpd_stress(self):
+        """DPD part of the pressure tensor (3x3 arrays): 'friction', 'noise' and
+        'total' = their sum, each (1/V) sum_pairs d_ij (x) F_ij with d_ij = r_i - r_j
+        and F_ij the DPD force on i, from the current velocities and the noise of
+        the current step (doc/dpd.md). Same sign as ``pressure_tensor()``: the
+        stress is minus this. Zero when the DPD thermostat is off."""
+        return dict(self._core.dpd_stress())
+
     def linear_momentum(self, include_particles=True, include_lbfluid=True):
         """Total linear momentum sum m v."""
         if not include_particles:
@@ -38,7 +67,7 @@ class Analysis:
         if n == 0:
             raise ValueError("no particles to compute a temperature from")
         v = parts.v
-        m = parts.mass
+        m = _masses(parts)
         return float(np.sum(m[:, None] * v * v) / (3.0 * n))
 
     def center_of_mass(self, p_type=None):
@@ -48,12 +77,12 @@ class Analysis:
         parts = self._system.part.select(type=p_type)
         if len(parts) == 0:
             raise ValueError(f"no particles of type {p_type}")
-        m = parts.mass
+        m = _masses(parts)
         return np.sum(m[:, None] * parts.pos, axis=0) / np.sum(m)
 
     def min_dist(self, p1="default", p2="default"):
         """Smallest minimum-image distance between a particle of a type in p1 and
         one of a type in p2 ('default': any type)."""
-        t1 = [] if isinstance(p1, str) and p1 == "default" else [int(t) for t in p1]
-        t2 = [] if isinstance(p2, str) and p2 == "default" else [int(t) for t in p2]
+        t1 = [] if isinstance(p1, str) and p1 == "default" else _type_list(p1, "p1")
+        t2 = [] if isinstance(p2, str) and p2 == "default" else _type_list(p2, "p2")
         return float(self._core.min_dist(t1, t2))

@@ -7,8 +7,9 @@ class CellSystem:
 
     @property
     def skin(self):
-        """Verlet-list skin (>= 0, at most box_l/2). Lists are rebuilt when a
-        particle has moved more than skin/2."""
+        """Verlet-list skin (> 0, at most box_l/2). Lists are rebuilt when a
+        particle has moved more than skin/2; a particle moving farther than the
+        skin in one step stops the run (a blow-up)."""
         return self._system._core.skin
 
     @skin.setter

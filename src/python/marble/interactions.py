@@ -29,7 +29,11 @@ class _Interaction:
         return bool(self.get_params())
 
     def __repr__(self):
-        return f"<{type(self).__name__} types=({self._i}, {self._j}) {self.get_params()}>"
+        try:
+            params = self.get_params()
+        except Exception as err:  # noqa: BLE001  (e.g. FeaturesError: repr must not raise)
+            params = f"unavailable: {err}"
+        return f"<{type(self).__name__} types=({self._i}, {self._j}) {params}>"
 
 
 class LennardJonesInteraction(_Interaction):
@@ -55,6 +59,44 @@ class DPDInteraction(_Interaction):
     _kind = "dpd"
 
 
+class MarbleInteraction(_Interaction):
+    """Marble colloid surface coupling (Zhou & Schmid) of colloid type i with solvent type j.
+
+    Parameters: radius > 0 (required), gamma >= 0 (required), r_cut > 0 (1.0),
+    weight_function 0 or 1 (1: w = 1 - (h/r_cut)^k), k > 0 (1.0),
+    coupling 'tunable_slip' (default), 'transverse' or 'dpd' (central).
+    Thermalised by the DPD thermostat (``system.thermostat.set_dpd``). The order
+    of the types matters: ``non_bonded_inter[colloid_type, solvent_type]``.
+    """
+    _kind = "marble"
+
+    def set_params(self, **params):
+        self._core.set_marble(self._i, self._j, params)
+
+    def get_params(self):
+        return dict(self._core.get_marble(self._i, self._j))
+
+    def deactivate(self):
+        self._core.deactivate_marble(self._i, self._j)
+
+
+class TunableSlipInteraction(_Interaction):
+    """Tunable-slip wall friction (Smiatek et al.) between a wall's particle type i
+    and fluid type j: F = -gamma w(z) (v - v_wall) + noise, w = 1 - (z - offset)/r_cut
+    (w = 1 for z < offset). Parameters: gamma >= 0, r_cut > 0, offset >= 0 (0).
+    Thermalised by the DPD thermostat."""
+    _kind = "tunable_slip"
+
+    def set_params(self, **params):
+        self._core.set_tunable_slip(self._i, self._j, params)
+
+    def get_params(self):
+        return dict(self._core.get_tunable_slip(self._i, self._j))
+
+    def deactivate(self):
+        self._core.deactivate_tunable_slip(self._i, self._j)
+
+
 class NonBondedInteractionHandle:
     """The interactions of one type pair."""
 
@@ -62,11 +104,13 @@ class NonBondedInteractionHandle:
         self.lennard_jones = LennardJonesInteraction(system, i, j)
         self.hat = HatInteraction(system, i, j)
         self.dpd = DPDInteraction(system, i, j)
+        self.marble = MarbleInteraction(system, i, j)
+        self.tunable_slip = TunableSlipInteraction(system, i, j)
 
 
 def _check_type(t):
-    if isinstance(t, bool) or not isinstance(t, numbers.Integral) or not 0 <= t < 1000:
-        raise ValueError(f"particle type must be an integer in [0, 1000), got {t!r}")
+    if isinstance(t, bool) or not isinstance(t, numbers.Integral) or not 0 <= t < 256:
+        raise ValueError(f"particle type must be an integer in [0, 256), got {t!r}")
     return int(t)
 
 

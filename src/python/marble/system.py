@@ -2,8 +2,10 @@
 import numpy as np
 
 from . import _marble
+from .accumulators import AutoUpdateAccumulators
 from .analysis import Analysis
 from .cell_system import CellSystem
+from .constraints import Constraints
 from .galilei import GalileiTransform
 from .integrate import Integrator
 from .interactions import NonBondedInteractions
@@ -38,6 +40,8 @@ class System:
         self.cell_system = CellSystem(self)
         self.analysis = Analysis(self)
         self.galilei = GalileiTransform(self)
+        self.constraints = Constraints(self)
+        self.auto_update_accumulators = AutoUpdateAccumulators(self)
         if "periodicity" in kwargs:
             self.periodicity = kwargs["periodicity"]
         if "time_step" in kwargs:
@@ -55,14 +59,16 @@ class System:
 
     @property
     def periodicity(self):
-        return np.array([True, True, True])
+        """Periodicity per axis (3 bools). Switch it off along the normal of
+        walls that bound the box."""
+        return np.array(self._core.get_periodicity())
 
     @periodicity.setter
     def periodicity(self, value):
-        v = np.asarray(value, dtype=bool)
-        if v.shape != (3,) or not v.all():
-            raise ValueError("parameter 'periodicity' must be [True, True, True]: "
-                             "non-periodic boxes come with walls (not yet implemented)")
+        v = np.asarray(value)
+        if v.shape != (3,) or v.dtype.kind not in "bi" or not np.all((v == 0) | (v == 1)):
+            raise ValueError("parameter 'periodicity' must be 3 bools")
+        self._core.set_periodicity([bool(x) for x in v])
 
     @property
     def time_step(self):

@@ -1,0 +1,150 @@
+#include "constraints/Constraints.hpp"
+
+#include "utils/errors.hpp"
+#include "utils/noise.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace Marble {
+
+using Utils::Vector3d;
+
+int Constraints::add_wall(Wall w) {
+  w.id = m_next_id++;
+  m_walls.push_back(w);
+  return w.id;
+}
+
+void Constraints::remove(int id) {
+  m_walls.erase(std::remove_if(m_walls.begin(), m_walls.end(), [id](Wall const &w) { return w.id == id; }),
+                m_walls.end());
+}
+
+Wall const *Constraints::find(int id) const {
+  for (auto const &w : m_walls)
+    if (w.id == id)
+      return &w;
+  return nullptr;
+}
+
+std::vector<char> Constraints::wall_types(int n_types) const {
+  std::vector<char> out(n_types, 0);
+  for (auto const &w : m_walls)
+    if (w.type < n_types)
+      out[w.type] = 1;
+  return out;
+}
+
+void Constraints::set_tunable_slip(int wt, int ft, TunableSlipParams const &p) {
+  int const n = std::max({m_n, wt + 1, ft + 1});
+  if (n > m_n) {
+    std::vector<TunableSlipParams> t(static_cast<std::size_t>(n) * n);
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j)
+        t[i * n + j] = m_slip[i * m_n + j];
+    m_slip.swap(t);
+    m_n = n;
+  }
+  m_slip[wt * m_n + ft] = p;
+}
+
+TunableSlipParams const &Constraints::tunable_slip(int wt, int ft) const {
+  static TunableSlipParams const none{};
+  return (wt < m_n && ft < m_n) ? m_slip[wt * m_n + ft] : none;
+}
+
+void Constraints::update_prefactors(double kT, double dt) {
+  for (auto &p : m_slip)
+    p.pref_noise = (dt > 0. && kT > 0. && p.gamma > 0.) ? std::sqrt(24. * kT * p.gamma / dt) : 0.;
+}
+
+namespace {
+// Folded position (periodic axes) for the distance to the wall plane.
+Vector3d folded(BoxGeometry const &box, Vector3d p) {
+  Utils::Vector3i img{};
+  box.fold(p, img);
+  return p;
+}
+} // namespace
+
+void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, InteractionTable const &ia,
+                             WallNoise const &noise, std::uint64_t step) {
+  int const nt = ia.n_types();
+  for (auto &w : m_walls) {
+    w.total_force = {};
+    w.energy = 0.;
+    if (w.type >= nt)
+      continue;
+    for (int i = 0; i < ps.n_local(); ++i) {
+      int const t = ps.type[i];
+      IAParams const &p = ia.get(w.type, t);
+      TunableSlipParams const &ts = tunable_slip(w.type, t);
+      double const range = std::max(p.max_cut, ts.active ? ts.offset + ts.r_cut : 0.);
+      if (range <= 0.)
+        continue;
+      double const z = w.normal * folded(box, ps.pos[i]) - w.dist;
+      if (z >= range)
+        continue;
+      if (z <= 0. && p.max_cut > 0.)
+        throw Utils::RuntimeError(
+            "particle " + std::to_string(ps.id[i]) + " penetrated wall " + std::to_string(w.id) +
+            " (distance " + Utils::to_str(z) + ") at step " + std::to_string(step) +
+            ": likely cause: time step too large for the wall repulsion, or the particle "
+            "was placed behind the wall");
+      Vector3d f{};
+      double fac = 0.;
+#ifdef LENNARD_JONES
+      if (p.lj.active)
+        fac += p.lj.force_over_r(z);
+#endif
+#ifdef HAT
+      if (p.hat.active)
+        fac += p.hat.force_over_r(z);
+#endif
+      f = (fac * z) * w.normal;
+#ifdef TUNABLE_SLIP
+      double const zl = z - ts.offset; // depth into the friction layer
+      if (ts.active && noise.on && zl < ts.r_cut) {
+        double const wz = zl <= 0. ? 1. : 1. - zl / ts.r_cut;
+        Vector3d const xi = Utils::noise_uniform(noise.seed, Utils::RNGSalt::tunable_slip_wall,
+                                                 noise.counter, static_cast<std::uint64_t>(ps.id[i]),
+                                                 static_cast<std::uint64_t>(w.id));
+        f += (-ts.gamma * wz) * (ps.v[i] - w.velocity) + (ts.pref_noise * std::sqrt(wz)) * xi;
+      }
+#else
+      (void)noise;
+#endif
+      ps.f[i] += f;
+      w.total_force -= f;
+    }
+  }
+}
+
+double Constraints::energy(ParticleStore const &ps, BoxGeometry const &box, InteractionTable const &ia) const {
+  double e = 0.;
+  int const nt = ia.n_types();
+  for (auto const &w : m_walls) {
+    if (w.type >= nt)
+      continue;
+    for (int i = 0; i < ps.n_local(); ++i) {
+      IAParams const &p = ia.get(w.type, ps.type[i]);
+      if (p.max_cut <= 0.)
+        continue;
+      double const z = w.normal * folded(box, ps.pos[i]) - w.dist;
+      if (z >= p.max_cut || z <= 0.)
+        continue;
+#ifdef LENNARD_JONES
+      if (p.lj.active)
+        e += p.lj.energy(z);
+#endif
+#ifdef HAT
+      if (p.hat.active)
+        e += p.hat.energy(z);
+#endif
+    }
+  }
+  return e;
+}
+
+} // namespace Marble

@@ -1,0 +1,65 @@
+#pragma once
+// Large particles (marble colloids) and their pair interactions.
+//
+// A particle type that carries a marble coupling (colloid type c, solvent
+// type s) is a "colloid type". All pairs involving a colloid are found by a
+// search over the solvent's cell grid around each colloid (and its periodic
+// images) within R + r_cut + skin, so colloids never enlarge the solvent's
+// cells; the main Verlet list skips these pairs (InteractionTable large types).
+// This pair list serves the colloid's conservative potentials (e.g. the LJ
+// excluded volume with offset), DPD and the marble surface coupling.
+#include "box/BoxGeometry.hpp"
+#include "cells/CellSystem.hpp"
+#include "marble/marble_kernel.hpp"
+#include "nonbonded/InteractionTable.hpp"
+#include "particles/ParticleStore.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace Marble {
+
+struct NoiseContext {
+  bool on = false;
+  std::uint64_t seed = 0, counter = 0;
+};
+
+class Colloids {
+public:
+  /** Marble coupling of colloid type @p c with solvent type @p s (ordered). */
+  void set(int c, int s, MarbleParams const &p);
+  MarbleParams const &get(int c, int s) const;
+  bool is_colloid_type(int t) const { return t < static_cast<int>(m_is_colloid.size()) && m_is_colloid[t]; }
+  bool is_solvent_type(int t) const;
+  std::vector<char> const &colloid_types() const { return m_is_colloid; }
+  bool any() const { return m_any; }
+  void update_prefactors(double kT, double dt);
+
+  /** Rebuild the colloid pair list; call right after the cell system's rebuild. */
+  void rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
+               InteractionTable const &ia);
+  /** Add all colloid pair forces and torques to locals. */
+  void add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const;
+  /** Energy per type pair (n_types^2, upper triangle) and virial tensor of
+   * the conservative colloid pair forces; adds to @p energy / @p virial. */
+  void conservative(ParticleStore const &ps, InteractionTable const &ia,
+                    std::vector<double> &energy, std::array<double, 9> &virial) const;
+  /** Empty if fine, else a message naming a colloid that cannot take torque. */
+  std::string check_rotation(ParticleStore const &ps) const;
+  std::size_t n_pairs() const { return m_pairs.size(); }
+
+private:
+  struct Pair {
+    int colloid, other;
+    Utils::Vector3d shift; // image of the colloid: pos[colloid] + shift
+  };
+  void grow(int n);
+  int m_n = 0;
+  bool m_any = false;
+  std::vector<MarbleParams> m_table; // [c * m_n + s]
+  std::vector<char> m_is_colloid;
+  std::vector<Pair> m_pairs;
+};
+
+} // namespace Marble

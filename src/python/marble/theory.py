@@ -1,0 +1,212 @@
+"""Hydrodynamic theory for a sphere in a periodic box (reference.md section 5,
+doc/analysis.md): finite-size diffusion coefficients (Hasimoto), partial slip
+(Basset), long-time-tail amplitudes, and the inverse problems (slip length or
+hydrodynamic radius from a measured D). Reduced units; kT defaults to 1.
+
+Conventions: ``L = numpy.inf`` (the default) is the unbounded fluid; ``b`` is the
+Navier slip length (0: stick, inf: perfect slip).
+"""
+import numpy as np
+
+#: Hasimoto's constant for a simple cubic lattice of point forces.
+HASIMOTO_XI = 2.837297
+
+
+def _pos(name, x, allow_inf=False):
+    x = np.asarray(x, dtype=float)
+    ok = (x > 0) & (np.isfinite(x) | (allow_inf & np.isinf(x)))
+    if not np.all(ok):
+        raise ValueError(f"parameter '{name}' must be > 0{' (inf allowed)' if allow_inf else ''}, "
+                         f"got {x}")
+    return x
+
+
+def _slip(b, R):
+    b = np.asarray(b, dtype=float)
+    if np.any(np.isnan(b)) or np.any(b <= -R / 3.0):
+        raise ValueError(f"parameter 'b' (slip length) must be > -R/3 = {-R / 3.0}, got {b}")
+    return b
+
+
+def _scalar(x):
+    return float(x) if np.ndim(x) == 0 else x
+
+
+def _inv_L(L):
+    L = _pos("L", L, allow_inf=True)
+    return np.where(np.isinf(L), 0.0, 1.0 / np.where(np.isinf(L), 1.0, L))
+
+
+def basset_friction(eta, R, b=0.0):
+    """Translational and rotational friction of a sphere with slip length b:
+    zeta_T = 6 pi eta R (1 + 2b/R)/(1 + 3b/R), zeta_R = 8 pi eta R^3/(1 + 3b/R).
+    b = inf gives (4 pi eta R, 0). Returns (zeta_T, zeta_R)."""
+    eta = _pos("eta", eta)
+    R = _pos("R", R)
+    b = _slip(b, R)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lam = b / R
+        fT = np.where(np.isinf(lam), 2.0 / 3.0, (1 + 2 * lam) / (1 + 3 * lam))
+        fR = np.where(np.isinf(lam), 0.0, 1.0 / (1 + 3 * lam))
+    return _scalar(6 * np.pi * eta * R * fT), _scalar(8 * np.pi * eta * R ** 3 * fR)
+
+
+def diffusion_coefficient(eta, R, L=np.inf, b=0.0, kT=1.0):
+    """Translational D of a sphere (slip length b) in a periodic cubic box of side L:
+
+        D(L) = kT/zeta_T(b) - 2.837297 kT/(6 pi eta L) + kT/(6 pi eta) (4 pi/3) R^2/L^3 * R/(R + 2b)
+
+    The 1/L term is the same for any surface (Hasimoto). The L^-3 term comes from
+    the source-dipole part of the flow around the sphere, whose strength per unit
+    force is R^2/3 (1 + 2b/R)^-1 for the Basset solution: b = 0 gives Hasimoto's
+    stick formula and b = inf the perfect-slip formula of reference.md section 5."""
+    eta = _pos("eta", eta)
+    R = _pos("R", R)
+    b = _slip(b, R)
+    kT = _pos("kT", kT)
+    zT, _ = basset_friction(eta, R, b)
+    iL = _inv_L(L)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dip = np.where(np.isinf(b), 0.0, R / (R + 2 * np.where(np.isinf(b), 0.0, b)))
+    D = kT / zT - HASIMOTO_XI * kT * iL / (6 * np.pi * eta) \
+        + kT / (6 * np.pi * eta) * (4 * np.pi / 3) * R ** 2 * iL ** 3 * dip
+    return _scalar(D)
+
+
+def hasimoto_D(eta, R, L=np.inf, kT=1.0, boundary="stick"):
+    """D(L) for a stick or a perfectly slipping sphere (reference.md section 5):
+    stick: kT/(6 pi eta) [1/R - 2.837297/L + (4 pi/3) R^2/L^3];
+    slip:  kT/(4 pi eta R) - 2.837297 kT/(6 pi eta L)."""
+    if boundary not in ("stick", "slip"):
+        raise ValueError(f"parameter 'boundary' must be 'stick' or 'slip', got {boundary!r}")
+    return diffusion_coefficient(eta, R, L, 0.0 if boundary == "stick" else np.inf, kT)
+
+
+def rotational_diffusion_coefficient(eta, R, L=np.inf, b=0.0, kT=1.0):
+    """D_r = kT/zeta_R(b) - kT/(6 eta L^3). For stick this is
+    kT/(8 pi eta R^3) [1 - (4 pi/3) R^3/L^3] (reference.md section 5); the L^-3
+    correction (periodic rotlets) does not depend on the surface. inf for b = inf."""
+    eta = _pos("eta", eta)
+    R = _pos("R", R)
+    b = _slip(b, R)
+    kT = _pos("kT", kT)
+    _, zR = basset_friction(eta, R, b)
+    iL = _inv_L(L)
+    with np.errstate(divide="ignore"):
+        D = kT / np.asarray(zR, dtype=float) - kT * iL ** 3 / (6 * eta)
+    return _scalar(D)
+
+
+def vacf_tail_amplitude(eta, rho_m, kT=1.0, D=0.0):
+    """A_T with C_v,x(t) -> A_T t^(-3/2) per Cartesian component:
+    A_T = kT / (12 rho_m [pi (nu + D)]^(3/2)), nu = eta / rho_m."""
+    eta, rho_m, kT = _pos("eta", eta), _pos("rho_m", rho_m), _pos("kT", kT)
+    nu = eta / rho_m
+    return _scalar(kT / (12 * rho_m * (np.pi * (nu + D)) ** 1.5))
+
+
+def rotational_vacf_tail_amplitude(eta, rho_m, kT=1.0, D=0.0):
+    """A_R with C_omega,x(t) -> A_R t^(-5/2) per Cartesian component:
+    A_R = pi kT / (rho_m [4 pi (nu + D)]^(5/2)), nu = eta / rho_m."""
+    eta, rho_m, kT = _pos("eta", eta), _pos("rho_m", rho_m), _pos("kT", kT)
+    nu = eta / rho_m
+    return _scalar(np.pi * kT / (rho_m * (4 * np.pi * (nu + D)) ** 2.5))
+
+
+def vacf_tail(t, eta, rho_m, kT=1.0, D=0.0):
+    """Translational tail A_T t^(-3/2) per component."""
+    return vacf_tail_amplitude(eta, rho_m, kT, D) * np.asarray(t, dtype=float) ** -1.5
+
+
+def rotational_vacf_tail(t, eta, rho_m, kT=1.0, D=0.0):
+    """Rotational tail A_R t^(-5/2) per component."""
+    return rotational_vacf_tail_amplitude(eta, rho_m, kT, D) * np.asarray(t, dtype=float) ** -2.5
+
+
+def _bisect(f, lo, hi, tol=1e-13, maxiter=300):
+    flo, fhi = f(lo), f(hi)
+    if flo * fhi > 0:
+        return None
+    for _ in range(maxiter):
+        mid = 0.5 * (lo + hi)
+        fm = f(mid)
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+        if hi - lo <= tol * max(1.0, abs(hi)):
+            break
+    return 0.5 * (lo + hi)
+
+
+def _fit_1d(model, D, D_err, L, lo, hi, name):
+    """Root of sum_i w_i (model(p, L_i) - D_i) dmodel/dp = 0 over p in (lo, hi):
+    the exact solution of model(p, L) = D for one measurement, weighted least
+    squares for several. Error from the linearised model."""
+    D = np.atleast_1d(np.asarray(D, dtype=float))
+    L = np.broadcast_to(np.atleast_1d(np.asarray(L, dtype=float)), D.shape)
+    if D_err is None:
+        w = np.ones_like(D)
+    else:
+        err = np.broadcast_to(np.atleast_1d(np.asarray(D_err, dtype=float)), D.shape)
+        if np.any(err <= 0):
+            raise ValueError("parameter 'D_err' must be > 0")
+        w = 1.0 / err ** 2
+    if np.any(~np.isfinite(D)) or np.any(D <= 0):
+        raise ValueError(f"parameter 'D' must be finite and > 0, got {D}")
+
+    def deriv(p):
+        h = 1e-6 * max(1.0, abs(p))
+        return (model(p + h, L) - model(p - h, L)) / (2 * h)
+
+    def grad(p):
+        return float(np.sum(w * (model(p, L) - D) * deriv(p)))
+
+    # scan for a sign change (the model is monotonic in p for one L)
+    grid = np.concatenate([np.linspace(lo, min(hi, lo + 1e-3 * (1 + abs(lo))), 3)[1:],
+                           np.geomspace(1e-6, 1, 40) * (hi - lo) + lo])
+    grid = np.unique(grid[(grid > lo) & (grid < hi)])
+    vals = [grad(p) for p in grid]
+    p = None
+    for a, bb, fa, fb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:]):
+        if fa * fb <= 0:
+            p = _bisect(grad, a, bb)
+            break
+    if p is None:
+        raise ValueError(f"no {name} in ({lo}, {hi}) reproduces D = {D}: D is outside the "
+                         "range the model can give")
+    J = deriv(p)
+    if D_err is None:
+        err = np.nan if D.size == 1 else np.sqrt(np.sum((model(p, L) - D) ** 2) / (D.size - 1)
+                                                 / np.sum(J ** 2))
+    else:
+        err = 1.0 / np.sqrt(np.sum(w * J ** 2))
+    return float(p), float(err)
+
+
+def slip_length_from_D(D, eta, R, L=np.inf, D_err=None, kT=1.0, b_max=1e6):
+    """Effective slip length b with diffusion_coefficient(eta, R, L, b) = D.
+
+    D, L (and D_err) may be arrays of measurements at several box sizes: b is then
+    the weighted least-squares fit. Returns (b, b_err); b_err from D_err by
+    linearisation (NaN for one measurement without D_err). b may come out
+    negative (down to -R/3): the hydrodynamic radius is then larger than R."""
+    eta, R = float(_pos("eta", eta)), float(_pos("R", R))
+
+    def model(b, L_):
+        return diffusion_coefficient(eta, R, L_, b, kT)
+
+    return _fit_1d(model, D, D_err, L, -R / 3.0, b_max, "slip length")
+
+
+def hydrodynamic_radius_from_D(D, eta, L=np.inf, D_err=None, kT=1.0):
+    """Stick-sphere radius R_h with hasimoto_D(eta, R_h, L) = D (arrays: least
+    squares over several box sizes). Returns (R_h, R_h_err)."""
+    eta = float(_pos("eta", eta))
+    L_arr = np.atleast_1d(np.asarray(L, dtype=float))
+    hi = 0.45 * float(np.min(L_arr)) if np.all(np.isfinite(L_arr)) else 1e6
+
+    def model(R_, L_):
+        return diffusion_coefficient(eta, R_, L_, 0.0, kT)
+
+    return _fit_1d(model, D, D_err, L, 0.0, hi, "hydrodynamic radius")

@@ -1,0 +1,117 @@
+// Script interface of constraints (walls), tunable-slip wall friction and
+// box periodicity.
+#include "script_interface/bindings.hpp"
+#include "script_interface/params.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+
+namespace ScriptInterface {
+
+using Marble::System;
+using Utils::Vector3d;
+
+void bind_constraints(py::class_<System> &cls) {
+  cls.def("set_periodicity", [](System &s, std::vector<bool> const &p) {
+    if (p.size() != 3)
+      value_error("parameter 'periodicity' must be 3 bools");
+    for (int d = 0; d < 3; ++d)
+      s.set_periodic(d, p[d]);
+  });
+  cls.def("get_periodicity", [](System &s) {
+    return std::vector<bool>{s.box().periodic(0), s.box().periodic(1), s.box().periodic(2)};
+  });
+  cls.def("add_wall", [](System &s, py::object normal, py::object dist, py::object type, py::object velocity) {
+    Marble::Wall w;
+    Vector3d n = to_vec3("normal", normal);
+    double const len = n.norm();
+    if (!(len > 0.))
+      value_error("parameter 'normal' must be a non-zero vector");
+    w.normal = n / len;
+    w.dist = check_double("dist", to_double("dist", dist));
+    long long const t = to_int("particle_type", type);
+    if (t < 0 || t >= Marble::InteractionTable::max_type)
+      value_error("parameter 'particle_type' must be an integer in [0, 256), got " + std::to_string(t));
+    w.type = static_cast<int>(t);
+    w.velocity = velocity.is_none() ? Vector3d{} : to_vec3("velocity", velocity);
+    if (std::abs(w.velocity * w.normal) > 1e-12 * (1. + w.velocity.norm()))
+      value_error("parameter 'velocity' must be tangential to the wall (velocity . normal = 0); "
+                  "moving walls along their normal are not supported");
+    int const id = s.constraints().add_wall(w);
+    s.on_constraints_change();
+    return id;
+  });
+  cls.def("remove_constraint", [](System &s, int id) {
+    if (!s.constraints().find(id))
+      value_error("no constraint with id " + std::to_string(id));
+    s.constraints().remove(id);
+    s.on_constraints_change();
+  });
+  cls.def("clear_constraints", [](System &s) {
+    s.constraints().clear();
+    s.on_constraints_change();
+  });
+  cls.def("constraint_state", [](System &s, int id) {
+    auto const *w = s.constraints().find(id);
+    if (!w)
+      value_error("no constraint with id " + std::to_string(id));
+    py::dict d;
+    auto arr = [](Vector3d const &v) { return std::vector<double>{v[0], v[1], v[2]}; };
+    d["normal"] = arr(w->normal);
+    d["dist"] = w->dist;
+    d["particle_type"] = w->type;
+    d["velocity"] = arr(w->velocity);
+    d["total_force"] = arr(w->total_force);
+    return d;
+  });
+  cls.def("set_tunable_slip", [](System &s, int wt, int ft, py::dict kw) {
+#ifdef TUNABLE_SLIP
+    check_keys("tunable_slip", kw, {"gamma", "r_cut", "offset"});
+    for (auto key : {"gamma", "r_cut"})
+      if (!kw.contains(key))
+        value_error(std::string("parameter '") + key + "' is required for tunable_slip");
+    for (int t : {wt, ft})
+      if (t < 0 || t >= Marble::InteractionTable::max_type)
+        value_error("particle type must be an integer in [0, 256), got " + std::to_string(t));
+    Marble::TunableSlipParams p;
+    p.gamma = check_double("gamma", to_double("gamma", kw["gamma"]), 0., INFINITY);
+    p.r_cut = check_double("r_cut", to_double("r_cut", kw["r_cut"]), 0., 1e6, true);
+    if (kw.contains("offset"))
+      p.offset = check_double("offset", to_double("offset", kw["offset"]), 0., 1e6);
+    p.active = true;
+    s.constraints().set_tunable_slip(wt, ft, p);
+    s.on_constraints_change();
+#else
+    (void)s, (void)wt, (void)ft, (void)kw;
+    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
+#endif
+  });
+  cls.def("get_tunable_slip", [](System &s, int wt, int ft) {
+    py::dict d;
+#ifdef TUNABLE_SLIP
+    auto const &p = s.constraints().tunable_slip(wt, ft);
+    if (p.active) {
+      d["gamma"] = p.gamma;
+      d["r_cut"] = p.r_cut;
+      d["offset"] = p.offset;
+    }
+#else
+    (void)s, (void)wt, (void)ft;
+    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
+#endif
+    return d;
+  });
+  cls.def("deactivate_tunable_slip", [](System &s, int wt, int ft) {
+#ifdef TUNABLE_SLIP
+    s.constraints().set_tunable_slip(wt, ft, Marble::TunableSlipParams{});
+    s.on_constraints_change();
+#else
+    (void)s, (void)wt, (void)ft;
+    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
+#endif
+  });
+}
+
+} // namespace ScriptInterface
