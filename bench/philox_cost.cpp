@@ -14,8 +14,9 @@ int main() {
   for (int rep = 0; rep < 5; ++rep) {
     std::clock_t const c0 = std::clock();
     for (int k = 0; k < n; ++k) {
-      auto const v = Utils::noise_uniform(42, Utils::RNGSalt::dpd, 7 + rep, static_cast<std::uint64_t>(k),
-                                          static_cast<std::uint64_t>(k) + 13);
+      auto const v =
+          Utils::noise_uniform(42, Utils::RNGSalt::dpd, 7 + rep, static_cast<std::uint64_t>(k),
+                               static_cast<std::uint64_t>(k) + 13);
       acc += v[0] + v[1] + v[2];
     }
     double const t = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / n * 1e9;

@@ -9,7 +9,7 @@
 set -euo pipefail
 
 # The main job: what a new user runs first (relative to the repository root).
-MAIN_JOB="${MARBLE_MAIN_JOB:-build/pymarble samples/lj_fluid.py}"
+MAIN_JOB="${MARBLE_MAIN_JOB:-build/pymarble samples/marble_colloid.py}"
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"

@@ -84,8 +84,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) const {
     Vector3d const p = ps.pos[i];
     for (auto const &sh : shifts) {
       Vector3d const q = p + sh;
-      if (q[0] < -m_range || q[0] >= L[0] + m_range || q[1] < -m_range ||
-          q[1] >= L[1] + m_range || q[2] < -m_range || q[2] >= L[2] + m_range)
+      if (q[0] < -m_range || q[0] >= L[0] + m_range || q[1] < -m_range || q[1] >= L[1] + m_range ||
+          q[2] < -m_range || q[2] >= L[2] + m_range)
         continue;
       ps.add_ghost(i, sh);
     }
@@ -196,8 +196,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
           __m128d const dx = _mm_sub_pd(px, _mm_loadu_pd(mx.data() + k));
           __m128d const dy = _mm_sub_pd(py, _mm_loadu_pd(my.data() + k));
           __m128d const dz = _mm_sub_pd(pz, _mm_loadu_pd(mz.data() + k));
-          __m128d const d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)),
-                                        _mm_mul_pd(dz, dz));
+          __m128d const d2 =
+              _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
           int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
           out[n_pairs] = {i, members[k]};
           n_pairs += static_cast<std::size_t>(mask & 1);
