@@ -192,26 +192,32 @@ class DPDApi(unittest.TestCase):
         self.assertGreater(np.trace(st["friction"]), 0.0)  # pressure sign
         np.testing.assert_allclose(st["total"], st["total"].T, rtol=1e-13, atol=0)
 
-        s = fluid(n=100, kT=1.3)
-        s.integrator.run(7)
-        parts = s.part.all()
-        pos, vel, ids = parts.pos, parts.v, parts.id
-        counter = s.thermostat.dpd.philox_counter
-        fric, rnd = np.zeros((3, 3)), np.zeros((3, 3))
-        for i in range(len(ids)):
-            for j in range(i + 1, len(ids)):
-                dd = pos[i] - pos[j]
-                dd -= L * np.round(dd / L)
-                if np.linalg.norm(dd) >= PRM["r_cut"]:
-                    continue
-                xi = noise(42, counter, ids[i], ids[j])
-                fric += np.outer(dd, ref_force(PRM, dd, vel[i] - vel[j], 0 * xi, 1.3, 0.01))
-                rnd += np.outer(dd, ref_force(PRM, dd, 0 * xi, xi, 1.3, 0.01))
-        st = s.analysis.dpd_stress()
-        for key, ref in (("friction", fric), ("noise", rnd), ("total", fric + rnd)):
-            np.testing.assert_allclose(st[key], ref / L**3, rtol=0,
-                                       atol=1e-12 * np.abs(ref).max() / L**3, err_msg=key)
-
+        prms = [PRM]
+        if marble.has_features("TRANS_DPD"):  # transverse part: non-symmetric tensor
+            prms.append(dict(PRM, trans_weight_function=0, trans_gamma=2.5, trans_r_cut=0.9))
+        for prm in prms:
+            s = fluid(n=100, kT=1.3)
+            s.non_bonded_inter[0, 0].dpd.set_params(**prm)
+            s.integrator.run(7)
+            parts = s.part.all()
+            pos, vel, ids = parts.pos, parts.v, parts.id
+            counter = s.thermostat.dpd.philox_counter
+            fric, rnd = np.zeros((3, 3)), np.zeros((3, 3))
+            for i in range(len(ids)):
+                for j in range(i + 1, len(ids)):
+                    dd = pos[i] - pos[j]
+                    dd -= L * np.round(dd / L)
+                    if np.linalg.norm(dd) >= PRM["r_cut"]:
+                        continue
+                    xi = noise(42, counter, ids[i], ids[j])
+                    fric += np.outer(dd, ref_force(prm, dd, vel[i] - vel[j], 0 * xi, 1.3, 0.01))
+                    rnd += np.outer(dd, ref_force(prm, dd, 0 * xi, xi, 1.3, 0.01))
+            st = s.analysis.dpd_stress()
+            for key, ref in (("friction", fric), ("noise", rnd), ("total", fric + rnd)):
+                np.testing.assert_allclose(st[key], ref / L**3, rtol=0,
+                                           atol=1e-12 * np.abs(ref).max() / L**3, err_msg=key)
+            if len(prm) > len(PRM):
+                self.assertGreater(np.abs(fric - fric.T).max(), 1e-3 * np.abs(fric).max())
 
 if __name__ == "__main__":
     unittest.main()

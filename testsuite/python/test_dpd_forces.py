@@ -230,13 +230,10 @@ class DPDForces(unittest.TestCase):
             s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
         s.thermostat.set_dpd(kT=1.0, seed=3)
         p0 = np.array(s.analysis.linear_momentum())
-        parts = s.part.all()
-        m = parts.mass if has_mass else np.ones(N)
-        scale = np.sum(m[:, None] * np.abs(parts.v))
         for _ in range(5):
             s.integrator.run(100)
             dp = np.array(s.analysis.linear_momentum()) - p0
-            self.assertLess(np.max(np.abs(dp)), 1e-12 * scale, dp)
+            self.assertLess(np.max(np.abs(dp)), 1e-12, dp)  # |p| ~ 40, sum |m v| ~ 400
 
 
 if __name__ == "__main__":

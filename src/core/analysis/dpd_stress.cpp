@@ -35,7 +35,8 @@ DPDStress System::dpd_stress() {
     int const a = m_ps.id[i], b = m_ps.id[j];
     auto const lo = static_cast<std::uint64_t>(a < b ? a : b);
     auto const hi = static_cast<std::uint64_t>(a < b ? b : a);
-    Utils::Vector3d xi = Utils::noise_uniform(th.seed, Utils::RNGSalt::dpd, th.philox_counter, lo, hi);
+    Utils::Vector3d xi =
+        Utils::noise_uniform(th.seed, Utils::RNGSalt::dpd, th.philox_counter, lo, hi);
     if (a > b)
       xi = -xi;
     double const mfac = dpd_mass_factor(m_ps.get_mass(i), m_ps.get_mass(j));

@@ -146,7 +146,7 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
     N = len(parts)
     if N == 0:
         raise ValueError("no particles")
-    mass = np.asarray(parts.mass, dtype=float)
+    mass = np.asarray(parts.mass, dtype=float) if has_features("MASS") else np.ones(N)
     V = float(np.prod(box))
     n = N / V
     rho = np.sum(mass) / V
