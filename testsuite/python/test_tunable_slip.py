@@ -8,15 +8,16 @@ Couette run (walls at -/+3) per gamma_L; eta, the zeros z_P (Poiseuille) and
 z_0 (Couette) of the wall-relative profiles, delta_B and z_B come from
 marble.slip.analyse with jackknife errors over 20 blocks.
 
-- gamma_L = 0.5: delta_B within 20 % of Smiatek's formula evaluated with the
-  channel's own eta and bulk density (and the run must resolve delta_B to
-  better than 10 % for that to mean anything); z_B at the layer start.
+- gamma_L = 0.5: delta_B within 20 % (+ 2 sigma) of Smiatek's formula evaluated
+  with the channel's own eta and bulk density (and the run must resolve delta_B
+  to better than 10 % for that to mean anything); z_B at the layer start.
 - gamma_L = 10: no slip at the fitted boundary: the Couette line at the
   Poiseuille zero z_P equals the wall velocity within 3 sigma, and that
   boundary lies inside the friction layer.
 - eta agrees with the solvent's reference value 1.23-1.25 (reference.md section 2).
 
-About 1.0e6 integration steps of 864 beads (~3.5 min on one idle core).
+About 1.0e6 integration steps of 864 beads (~4 min on one idle core; measured at seeds 11/21:
+delta_B = 1.406 +- 0.067 vs formula 1.196 at gamma_L = 0.5, z_P - z_0 = 0.023 +- 0.013 at 10).
 """
 import unittest
 
@@ -47,7 +48,11 @@ class TunableSlipFlow(unittest.TestCase):
         # a real partial-slip solution exists, resolved well enough to compare
         self.assertGreater(r["d2"], 3.0 * r["d2_err"])
         self.assertLess(r["delta_B_err"], 0.1 * formula)
-        self.assertLess(abs(r["delta_B"] - formula), 0.2 * formula)
+        # 20 % for the formula's accuracy plus 2 sigma for the noise realisation.
+        # Measured (seed 11): delta_B = 1.406 +- 0.067 vs 1.196, +17.5 +- 5.6 %: the
+        # exact solution of the formula's own continuum model is 9 % below it, and
+        # the DPD fluid within one cutoff of the wall adds ~0.2 of slip (doc/walls.md).
+        self.assertLess(abs(r["delta_B"] - formula), 0.2 * formula + 2.0 * r["delta_B_err"])
         # the formula's boundary is the layer start (the continuum model puts it
         # 0.08 below it at gamma_L = 0.5)
         self.assertLess(abs(r["z_B"] - OFFSET), 0.1 + 3.0 * r["z_B_err"])

@@ -201,14 +201,15 @@ def analyse(poiseuille, couette, body_force, wall_velocity, fit_min=2.25, fit_ma
 
     def derived(keep):
         vp, cp = _half_profile(poiseuille, keep, +1)
-        vc, _ = _half_profile(couette, keep, -1)
+        vc, cc = _half_profile(couette, keep, -1)
         x = zbin[sel] - L / 2
         # Poiseuille: v = c0 + c2 x^2 (symmetric); weights ~ counts (thermal noise per bin).
         w = cp[sel]
         M = np.column_stack([np.ones_like(x), x * x])
         c0, c2 = np.linalg.lstsq(M * np.sqrt(w)[:, None], vp[sel] * np.sqrt(w), rcond=None)[0]
         # Couette: v = S x (antisymmetric), relative to the lower wall v + v_w.
-        S = np.sum(w * x * vc[sel]) / np.sum(w * x * x)
+        wc = cc[sel]
+        S = np.sum(wc * x * vc[sel]) / np.sum(wc * x * x)
         rho = np.sum(cp[sel]) / np.sum(keep) / np.sum(sel) * norm
         eta = -rho * body_force / (2.0 * c2)
         z_p = L / 2 - np.sqrt(c0 / -c2) if c0 / -c2 > 0 else np.nan
