@@ -70,6 +70,7 @@ def make_system(L=(6.0, 6.0, 8.0), periodic_z=False, dt=0.01):
 
 class WallForces(unittest.TestCase):
 
+    @skipIfMissingFeatures("LENNARD_JONES")
     def test_wca_at_distance(self):
         s = make_system()
         L = s.box_l[2]
@@ -101,6 +102,7 @@ class WallForces(unittest.TestCase):
         s.integrator.run(0)
         np.testing.assert_array_equal(p[0].f, [0.0, 0.0, 0.0])
 
+    @skipIfMissingFeatures("LENNARD_JONES")
     def test_tilted_wall(self):
         s = make_system(L=(10.0, 10.0, 10.0), periodic_z=True)
         n = np.array([1.0, 2.0, 2.0]) / 3.0
@@ -204,6 +206,7 @@ class WallForces(unittest.TestCase):
 
 class WallErrors(unittest.TestCase):
 
+    @skipIfMissingFeatures("LENNARD_JONES")
     def test_penetration_error(self):
         s = make_system()
         w = s.constraints.add(shape=Wall(normal=[0, 0, 1], dist=1.0), particle_type=1)
@@ -221,6 +224,7 @@ class WallErrors(unittest.TestCase):
         s.integrator.run(2)
         self.assertTrue(np.all(np.isfinite(s.part.all().pos)))
 
+    @skipIfMissingFeatures("LENNARD_JONES")
     def test_no_interaction_through_open_boundary(self):
         """Pairs across z = 0 / z = L interact only with periodic z."""
         for periodic_z, expect_force in ((True, True), (False, False)):
