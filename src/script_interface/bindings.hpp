@@ -11,5 +11,6 @@ void bind_interactions(py::class_<Marble::System> &cls);
 void bind_system(py::class_<Marble::System> &cls);
 void bind_marble(py::class_<Marble::System> &cls);
 void bind_constraints(py::class_<Marble::System> &cls);
+void bind_integrators(py::class_<Marble::System> &cls); // integrators.cpp
 void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls);
 } // namespace ScriptInterface

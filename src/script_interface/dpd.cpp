@@ -1,6 +1,7 @@
 // Script interface of the DPD analysis: the DPD part of the pressure tensor
 // (core: analysis/dpd_stress.cpp; convention: doc/dpd.md).
 #include "script_interface/bindings.hpp"
+#include "utils/errors.hpp"
 
 #include <pybind11/numpy.h>
 

@@ -48,5 +48,6 @@ PYBIND11_MODULE(_marble, m) {
   ScriptInterface::bind_marble(cls);
   ScriptInterface::bind_constraints(cls);
   ScriptInterface::bind_dpd(cls);
+  ScriptInterface::bind_integrators(cls);
   ScriptInterface::bind_accumulators(m, cls);
 }

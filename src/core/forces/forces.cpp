@@ -170,7 +170,8 @@ void System::compute_forces(bool with_thermostat) {
 #else
   (void)with_thermostat;
 #endif
-  int const mask = (k.lj ? 1 : 0) | (k.hat ? 2 : 0) | ((k.dpd && th.on) ? 4 : 0);
+  int const mask =
+      (k.lj ? 1 : 0) | (k.hat ? 2 : 0) | ((k.dpd && th.on && m_dpd_in_pair_loop) ? 4 : 0);
   loops[mask](m_ps, m_cells.pairs(), m_ia, th);
   add_extra_forces(with_thermostat); // colloid pairs, constraints
   m_cells.reduce_ghost_forces(m_ps);

@@ -1,6 +1,7 @@
 // Velocity Verlet (with rotation of isotropic spheres) and steepest descent.
 // One step (doc/architecture.md): half kick + drift, step counter += 1,
 // Verlet list check, forces, half kick.
+#include "integrators/stability.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 
@@ -67,14 +68,25 @@ void System::drift_checked() {
       }
       m_forces_valid = false;
       m_cells.invalidate();
+      // the friction limits (integrators/stability.cpp) name a likelier cause
+      std::string where;
+      double const frac = limit_fraction(*this, where);
+      std::string const friction =
+          frac > 0.3 ? " (explicit friction at " + Utils::to_str(frac) +
+                           " x its stability limit: " + where + ")"
+                     : std::string();
+      double const dt_sugg = std::isfinite(disp2) ? 0.5 * dt * m_cells.skin() / std::sqrt(disp2)
+                                                  : (frac > 0.3 ? 0.5 * dt / frac : 0.1 * dt);
       std::string const what =
           std::isfinite(disp2)
               ? "moved " + Utils::to_str(std::sqrt(disp2)) + " in one step, more than the skin (" +
                     Utils::to_str(m_cells.skin()) +
-                    "): likely cause: time step too large for the forces/velocities or "
-                    "overlapping particles; reduce time_step or increase cell_system.skin"
-              : "got a non-finite velocity or position: likely cause: time step too large or "
-                "a non-finite force/velocity set by the user";
+                    "): likely cause: time step too large for the forces/velocities" + friction +
+                    " or overlapping particles; reduce time_step (suggested <= " +
+                    Utils::to_str(dt_sugg) + ") or increase cell_system.skin"
+              : "got a non-finite velocity or position: likely cause: time step too large" +
+                    friction + " or a non-finite force/velocity set by the user; reduce time_step "
+                    "(suggested <= " + Utils::to_str(dt_sugg) + ")";
       throw Utils::RuntimeError("integration stopped at step " + std::to_string(m_step + 1) +
                                 ": particle " + std::to_string(m_ps.id[i]) + " " + what);
     }
@@ -93,6 +105,12 @@ int System::run(int n_steps, bool recalc_forces) {
     return run_sd(n_steps);
   if (recalc_forces)
     m_forces_valid = false;
+  if (n_steps > 0)
+    check_stability_before_run(*this);
+  if (m_integrator == IntegratorKind::Shardlow)
+    return run_shardlow(n_steps);
+  if (m_integrator == IntegratorKind::DPDVV)
+    return run_dpd_vv(n_steps);
   return run_vv(n_steps);
 }
 

@@ -28,7 +28,10 @@ struct AutoUpdate {
   int delta_N = 1;
 };
 
-enum class IntegratorKind { VelocityVerlet, SteepestDescent };
+// Shardlow: S1 splitting, exact pairwise DPD updates + VV for the rest;
+// DPDVV: velocity Verlet with the DPD friction recomputed from the full-step
+// velocities (Besold et al.). See integrators/shardlow.cpp, doc/stability.md.
+enum class IntegratorKind { VelocityVerlet, SteepestDescent, Shardlow, DPDVV };
 
 struct SteepestDescentParams {
   double f_max = 0., gamma = 0., max_displacement = 0.;
@@ -91,7 +94,21 @@ public:
 
   // --- integration ---
   IntegratorKind integrator() const { return m_integrator; }
-  void set_integrator_vv() { m_integrator = IntegratorKind::VelocityVerlet; }
+  void set_integrator_vv() {
+    m_integrator = IntegratorKind::VelocityVerlet;
+    set_pair_dpd_in_force_loop(true);
+  }
+  void set_integrator_shardlow() {
+    m_integrator = IntegratorKind::Shardlow;
+    set_pair_dpd_in_force_loop(false);
+  }
+  void set_integrator_dpd_vv() {
+    m_integrator = IntegratorKind::DPDVV;
+    set_pair_dpd_in_force_loop(true);
+  }
+  /** False with Shardlow: the main pair loop then leaves DPD out (the
+   * integrator updates those pairs itself) and forces hold the rest. */
+  bool pair_dpd_in_force_loop() const { return m_dpd_in_pair_loop; }
   void set_integrator_sd(SteepestDescentParams const &p) {
     m_integrator = IntegratorKind::SteepestDescent;
     m_sd = p;
@@ -144,6 +161,13 @@ private:
   void check_forces_finite() const;
   int run_vv(int n_steps);
   int run_sd(int n_steps);
+  int run_shardlow(int n_steps); // integrators/shardlow.cpp
+  int run_dpd_vv(int n_steps);   // integrators/shardlow.cpp
+  void set_pair_dpd_in_force_loop(bool on) {
+    if (on != m_dpd_in_pair_loop)
+      m_forces_valid = false;
+    m_dpd_in_pair_loop = on;
+  }
   void rebuild_if_needed();
   void kick(double half_dt);
   void drift_checked();
@@ -159,6 +183,7 @@ private:
   double m_time = 0.;
   std::uint64_t m_step = 0;
   bool m_forces_valid = false;
+  bool m_dpd_in_pair_loop = true;
   double m_cut_at_rebuild = -1.;
   std::vector<std::shared_ptr<AutoUpdate>> m_auto_update;
   Constraints m_constraints;

@@ -49,6 +49,14 @@ class Analysis:
         stress is minus this. Zero when the DPD thermostat is off."""
         return dict(self._core.dpd_stress())
 
+    def check_scene(self):
+        """Warnings for parameter choices known to be inaccurate (doc/stability.md):
+        a list of dicts with 'code', 'message' (quoting the measured number behind
+        the rule), 'value' (the scene's) and 'limit'. Empty when nothing is flagged.
+        Codes: dt_kT_error, solvent_density, box_too_small, marble_slip,
+        friction_near_limit, skin_small."""
+        return [dict(w) for w in self._core.check_scene()]
+
     def linear_momentum(self, include_particles=True, include_lbfluid=True):
         """Total linear momentum sum m v."""
         if not include_particles:

@@ -1,0 +1,240 @@
+// Stability checks before a run (doc/stability.md). Explicit friction
+// integrated by velocity Verlet multiplies a velocity by (1 - nu) per step
+// (nu = friction rate * dt, one body): unstable beyond nu = 2, and the kinetic
+// temperature is already far off before. For the many-body DPD friction the
+// largest eigenvalue of the friction matrix exceeds the mean rate: the limit
+// of the mean-field estimate below was measured (kNuDpd).
+#include "integrators/stability.hpp"
+#include "system/System.hpp"
+#include "utils/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace Marble {
+
+namespace {
+
+// int_0^rc w(r)^2 4 pi (r + R)^2 dr (R = 0 for pairs), midpoint rule.
+template <typename W> double weight_integral(W const &w, double rc, double R) {
+  int const n = 200;
+  double s = 0.;
+  for (int k = 0; k < n; ++k) {
+    double const r = (k + 0.5) * rc / n;
+    double const x = w(r);
+    s += x * x * 4. * M_PI * (r + R) * (r + R);
+  }
+  return s * rc / n;
+}
+
+struct TypeStats {
+  std::vector<double> count, m_min, rinertia_min;
+  std::vector<int> lightest; // id of the lightest particle of each type
+};
+
+[[maybe_unused]] TypeStats type_stats(System &sys) {
+  auto const &ps = sys.particles();
+  int const nt = sys.interactions().n_types();
+  TypeStats t;
+  t.count.assign(nt, 0.);
+  t.m_min.assign(nt, INFINITY);
+  t.rinertia_min.assign(nt, INFINITY);
+  t.lightest.assign(nt, -1);
+  for (int i = 0; i < ps.n_local(); ++i) {
+    int const a = ps.type[i];
+    if (a >= nt)
+      continue;
+    t.count[a] += 1.;
+    if (ps.get_mass(i) < t.m_min[a] || t.lightest[a] < 0)
+      t.lightest[a] = ps.id[i];
+    t.m_min[a] = std::min(t.m_min[a], ps.get_mass(i));
+#ifdef ROTATION
+    if (ps.rotation[i])
+      t.rinertia_min[a] = std::min(t.rinertia_min[a], ps.rinertia[i]);
+#endif
+  }
+  return t;
+}
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+} // namespace
+
+FrictionRates friction_rates(System &sys,
+                             [[maybe_unused]] bool include_pair_dpd) {
+  FrictionRates out;
+#ifdef DPD
+  auto const &ia = sys.interactions();
+  auto const &th = sys.thermostat().dpd;
+  if (!th.active)
+    return out;
+  int const nt = ia.n_types();
+  auto const st = type_stats(sys);
+  auto const &L = sys.box().length();
+  double const V = L[0] * L[1] * L[2];
+  std::vector<double> bead(nt, 0.),
+      one(nt, 0.); // per type: DPD and one-body rates
+  std::vector<std::string> bead_what(nt);
+  for (int a = 0; a < nt; ++a) {
+    if (st.count[a] == 0.)
+      continue;
+    if (th.kT > 0.)
+      out.v_thermal = std::max(out.v_thermal, std::sqrt(th.kT / st.m_min[a]));
+    if (!include_pair_dpd || ia.is_large(a))
+      continue;
+    for (int b = 0; b < nt; ++b) {
+      auto const &p = ia.get(a, b).dpd;
+      if (!p.active || st.count[b] == 0. || ia.is_large(b))
+        continue;
+      double const ma = st.m_min[a], mb = st.m_min[b];
+      double const M = dpd_mass_factor(ma, mb);
+      double g = p.radial.gamma *
+                 weight_integral([&](double r) { return p.radial.weight(r); },
+                                 p.radial.r_cut, 0.);
+#ifdef TRANS_DPD
+      g += p.trans.gamma *
+           weight_integral([&](double r) { return p.trans.weight(r); },
+                           p.trans.r_cut, 0.);
+#endif
+      double const rate = g * M * (1. / ma + 1. / mb) * st.count[b] / V;
+      bead[a] += rate;
+      bead_what[a] += (bead_what[a].empty() ? "" : " + ") +
+                      std::string("DPD of types ") + std::to_string(a) + "-" +
+                      std::to_string(b) + " (gamma " + fmt(p.radial.gamma) +
+                      ")";
+      if (bead[a] > out.dpd) {
+        out.dpd = bead[a];
+        out.dpd_where = bead_what[a];
+      }
+    }
+  }
+#ifdef MARBLE
+  auto const &col = sys.colloids();
+  for (int c = 0; c < nt; ++c) {
+    if (!col.is_colloid_type(c) || st.count[c] == 0.)
+      continue;
+    double trans = 0., rot = 0.;
+    double R = 0.;
+    for (int s = 0; s < nt; ++s) {
+      auto const &m = col.get(c, s);
+      if (!m.active || st.count[s] == 0.)
+        continue;
+      R = std::max(R, m.radius);
+      // bead side: one-body friction gamma w^2 / m with w <= 1
+      one[s] += m.gamma / st.m_min[s];
+      bead_what[s] += (bead_what[s].empty() ? "" : " + ") +
+                      std::string("marble coupling ") + std::to_string(c) +
+                      "-" + std::to_string(s) + " (gamma " + fmt(m.gamma) + ")";
+      // colloid side: sum over the shell of gamma w^2, with the solvent density
+      // outside the colloids ~ count / V
+      double const shell =
+          m.gamma *
+          weight_integral([&](double h) { return m.weight(h); }, m.r_cut,
+                          m.radius) *
+          st.count[s] / V;
+      double const f_trans = m.coupling == MarbleCoupling::dpd ? 1. / 3. : 1.;
+      trans += f_trans * shell / st.m_min[c];
+      if (m.transmits_torque() && std::isfinite(st.rinertia_min[c]))
+        rot += (2. / 3.) * m.radius * m.radius * shell / st.rinertia_min[c];
+    }
+    double const r = std::max(trans, rot);
+    if (r > out.colloid) {
+      out.colloid = r;
+      out.colloid_where =
+          "marble colloid type " + std::to_string(c) + " (particle " +
+          std::to_string(st.lightest[c]) + ", radius " + fmt(R) + ", mass " +
+          fmt(st.m_min[c]) +
+          "): " + (rot > trans ? "rotational" : "translational") +
+          " friction from its solvent shell";
+    }
+  }
+#endif
+  for (auto const &w : sys.constraints().walls()) {
+    for (int s = 0; s < nt; ++s) {
+      if (w.type >= nt || st.count[s] == 0.)
+        continue;
+      auto const &p = sys.constraints().tunable_slip(w.type, s);
+      if (!p.active || p.gamma <= 0.)
+        continue;
+      one[s] += p.gamma / st.m_min[s];
+      bead_what[s] += (bead_what[s].empty() ? "" : " + ") +
+                      std::string("tunable-slip wall type ") +
+                      std::to_string(w.type) + " (gamma_L " + fmt(p.gamma) +
+                      ")";
+      break;
+    }
+  }
+  for (int a = 0; a < nt; ++a) {
+    out.one_body = std::max(out.one_body, one[a]);
+    double const frac = bead[a] / kNuDpd + one[a] / kNuOneBody;
+    if (frac > out.bead) {
+      out.bead = frac;
+      out.bead_where = "particles of type " + std::to_string(a) +
+                       " (e.g. particle " + std::to_string(st.lightest[a]) +
+                       "): " + bead_what[a];
+    }
+  }
+#else
+  (void)sys;
+#endif
+  return out;
+}
+
+double limit_fraction(System &sys, std::string &where) {
+  bool const pair_dpd = sys.integrator() != IntegratorKind::Shardlow;
+  auto const r = friction_rates(sys, pair_dpd);
+  double const dt = sys.time_step();
+  double frac = r.bead * dt;
+  where = r.bead_where;
+  if (r.colloid * dt / kNuOneBody > frac) {
+    frac = r.colloid * dt / kNuOneBody;
+    where = r.colloid_where;
+  }
+  return frac;
+}
+
+void check_stability_before_run(System &sys) {
+  double const dt = sys.time_step();
+  if (!(dt > 0.))
+    return; // the integrator reports the missing time step
+  std::string where;
+  double const frac = limit_fraction(sys, where);
+  if (frac > 1.) {
+    bool const shardlow = sys.integrator() == IntegratorKind::Shardlow;
+    throw Utils::RuntimeError(
+        "cannot integrate at step " + std::to_string(sys.step()) +
+        ": explicit friction too stiff for time_step " + fmt(dt) + ": " +
+        where + " use " + fmt(frac) +
+        " x the measured stability limit (friction rate * dt <= " +
+        fmt(kNuDpd) + " for solvent DPD pairs, " + fmt(kNuOneBody) +
+        " for colloid/wall friction; doc/stability.md); likely result: "
+        "exploding velocities. "
+        "Reduce time_step to <= " +
+        fmt(0.5 * dt / frac) + " (suggested)" +
+        (shardlow
+             ? std::string()
+             : std::string(
+                   ", or use integrator.set_shardlow() (exact, stable pair DPD "
+                   "updates) if the solvent DPD dominates")));
+  }
+  auto const r = friction_rates(sys, false);
+  double const disp = kSkinSpeeds * r.v_thermal * dt;
+  if (disp > sys.skin())
+    throw Utils::RuntimeError(
+        "cannot integrate at step " + std::to_string(sys.step()) +
+        ": thermal motion too fast for time_step " + fmt(dt) + ": " +
+        fmt(kSkinSpeeds) + " thermal speeds sqrt(kT/m) = " +
+        fmt(kSkinSpeeds * r.v_thermal) + " move " + fmt(disp) +
+        " per step, more than the skin " + fmt(sys.skin()) +
+        " (a particle would move beyond its Verlet list). Reduce time_step to "
+        "<= " +
+        fmt(0.5 * sys.skin() / (kSkinSpeeds * r.v_thermal)) +
+        " or increase cell_system.skin");
+}
+
+} // namespace Marble
