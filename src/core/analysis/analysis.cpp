@@ -12,26 +12,6 @@ namespace Marble {
 using Utils::Vector3d;
 
 namespace {
-// Conservative pair force factor (F = fac d) and energy of one pair.
-struct PairCons {
-  double fac = 0., energy = 0.;
-};
-PairCons conservative([[maybe_unused]] IAParams const &p, [[maybe_unused]] double r) {
-  PairCons out;
-#ifdef LENNARD_JONES
-  if (p.lj.active) {
-    out.fac += p.lj.force_over_r(r);
-    out.energy += p.lj.energy(r);
-  }
-#endif
-#ifdef HAT
-  if (p.hat.active) {
-    out.fac += p.hat.force_over_r(r);
-    out.energy += p.hat.energy(r);
-  }
-#endif
-  return out;
-}
 } // namespace
 
 Energies System::energies() {
@@ -53,7 +33,7 @@ Energies System::energies() {
     double const r2 = (m_ps.pos[pr[0]] - m_ps.pos[pr[1]]).norm2();
     if (r2 >= p.max_cut2)
       continue;
-    double const u = conservative(p, std::sqrt(r2)).energy;
+    double const u = conservative_pair(p, std::sqrt(r2)).energy;
     e.non_bonded += u;
     e.non_bonded_pairs[std::min(ti, tj) * nt + std::max(ti, tj)] += u;
   }
@@ -88,7 +68,7 @@ PressureTensor System::pressure_tensor() {
     double const r2 = d.norm2();
     if (r2 >= ia.max_cut2)
       continue;
-    double const fac = conservative(ia, std::sqrt(r2)).fac;
+    double const fac = conservative_pair(ia, std::sqrt(r2)).force_over_r;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         p.non_bonded[3 * a + b] += fac * d[a] * d[b] / V;

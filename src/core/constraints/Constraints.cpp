@@ -92,17 +92,7 @@ void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, Interact
             " (distance " + Utils::to_str(z) + ") at step " + std::to_string(step) +
             ": likely cause: time step too large for the wall repulsion, or the particle "
             "was placed behind the wall");
-      Vector3d f{};
-      double fac = 0.;
-#ifdef LENNARD_JONES
-      if (p.lj.active)
-        fac += p.lj.force_over_r(z);
-#endif
-#ifdef HAT
-      if (p.hat.active)
-        fac += p.hat.force_over_r(z);
-#endif
-      f = (fac * z) * w.normal;
+      Vector3d f = (conservative_pair(p, z).force_over_r * z) * w.normal;
 #ifdef TUNABLE_SLIP
       double const zl = z - ts.offset; // depth into the friction layer
       if (ts.active && noise.on && zl < ts.r_cut) {
@@ -134,14 +124,7 @@ double Constraints::energy(ParticleStore const &ps, BoxGeometry const &box, Inte
       double const z = w.normal * folded(box, ps.pos[i]) - w.dist;
       if (z >= p.max_cut || z <= 0.)
         continue;
-#ifdef LENNARD_JONES
-      if (p.lj.active)
-        e += p.lj.energy(z);
-#endif
-#ifdef HAT
-      if (p.hat.active)
-        e += p.hat.energy(z);
-#endif
+      e += conservative_pair(p, z).energy;
     }
   }
   return e;

@@ -121,17 +121,7 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
     if (!(r > 0.))
       continue;
     // Force on the partner j (F_i of the pair kernels with i = j).
-    Vector3d f{};
-    double fac = 0.;
-#ifdef LENNARD_JONES
-    if (p.lj.active)
-      fac += p.lj.force_over_r(r);
-#endif
-#ifdef HAT
-    if (p.hat.active)
-      fac += p.hat.force_over_r(r);
-#endif
-    f = fac * d;
+    Vector3d f = conservative_pair(p, r).force_over_r * d;
     Vector3d torque{};
 #ifdef DPD
     if (noise.on && p.dpd.active) {
@@ -178,19 +168,8 @@ void Colloids::conservative([[maybe_unused]] ParticleStore const &ps,
     if (r2 >= p.max_cut * p.max_cut)
       continue;
     double const r = std::sqrt(r2);
-    double fac = 0., u = 0.;
-#ifdef LENNARD_JONES
-    if (p.lj.active) {
-      fac += p.lj.force_over_r(r);
-      u += p.lj.energy(r);
-    }
-#endif
-#ifdef HAT
-    if (p.hat.active) {
-      fac += p.hat.force_over_r(r);
-      u += p.hat.energy(r);
-    }
-#endif
+    auto const cons = conservative_pair(p, r);
+    double const fac = cons.force_over_r, u = cons.energy;
     energy[std::min(tc, tj) * nt + std::max(tc, tj)] += u;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)

@@ -40,6 +40,30 @@ struct IAParams {
   }
 };
 
+/** Conservative part of a pair at distance r: force F = force_over_r * d and
+ * the energy (all potentials of the pair summed). Used wherever a pair is
+ * evaluated outside the main loop (colloid pairs, walls, analysis). */
+struct ConservativePair {
+  double force_over_r = 0., energy = 0.;
+};
+inline ConservativePair conservative_pair([[maybe_unused]] IAParams const &p,
+                                          [[maybe_unused]] double r) {
+  ConservativePair out;
+#ifdef LENNARD_JONES
+  if (p.lj.active) {
+    out.force_over_r += p.lj.force_over_r(r);
+    out.energy += p.lj.energy(r);
+  }
+#endif
+#ifdef HAT
+  if (p.hat.active) {
+    out.force_over_r += p.hat.force_over_r(r);
+    out.energy += p.hat.energy(r);
+  }
+#endif
+  return out;
+}
+
 /** Which kernels any type pair uses: selects the instantiation of the pair loop. */
 struct KernelMask {
   bool lj = false, hat = false, dpd = false;
