@@ -86,7 +86,16 @@ void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, Interact
       double const z = w.normal * folded(box, ps.pos[i]) - w.dist;
       if (z >= range)
         continue;
-      if (z <= 0. && p.max_cut > 0.)
+      bool repulsive = false;
+#ifdef LENNARD_JONES
+      repulsive |= p.lj.active;
+#endif
+#ifdef HAT
+      repulsive |= p.hat.active;
+#endif
+      if (z <= 0. && !repulsive)
+        continue; // behind a friction-only wall: outside its fluid, no force
+      if (z <= 0.)
         throw Utils::RuntimeError(
             "particle " + std::to_string(ps.id[i]) + " penetrated wall " + std::to_string(w.id) +
             " (distance " + Utils::to_str(z) + ") at step " + std::to_string(step) +
