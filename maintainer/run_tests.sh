@@ -15,7 +15,7 @@
 set -uo pipefail
 
 # Further configurations from maintainer/configs/<name>.hpp, e.g. "maxset empty".
-EXTRA_CONFIGS=""
+EXTRA_CONFIGS="dpd_mass_lin"
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT" || exit 1
