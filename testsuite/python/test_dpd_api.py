@@ -7,6 +7,9 @@ import unittest
 import numpy as np
 
 import marble
+
+if not marble.has_features("DPD"):
+    raise unittest.SkipTest("missing feature DPD")
 from unittest_decorators import skipIfMissingFeatures
 from test_dpd_forces import noise, ref_force
 

@@ -9,6 +9,9 @@ import unittest
 import numpy as np
 
 import marble
+
+if not marble.has_features("DPD"):
+    raise unittest.SkipTest("missing feature DPD")
 from unittest_decorators import skipIfMissingFeatures
 
 MASK = (1 << 64) - 1

@@ -10,6 +10,9 @@ import unittest
 import numpy as np
 
 import marble
+
+if not marble.has_features("DPD"):
+    raise unittest.SkipTest("missing feature DPD")
 from marble.viscosity import block_average
 
 KT = 2.3

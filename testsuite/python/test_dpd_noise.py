@@ -8,6 +8,9 @@ import unittest
 import numpy as np
 
 import marble
+
+if not marble.has_features("DPD"):
+    raise unittest.SkipTest("missing feature DPD")
 from test_dpd_forces import noise
 
 L = 4.0
