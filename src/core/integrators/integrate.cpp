@@ -2,11 +2,13 @@
 // One step (doc/architecture.md): half kick + drift, step counter += 1,
 // Verlet list check, forces, half kick.
 #include "integrators/stability.hpp"
+#include "integrators/dpd_integrators.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace Marble {
 
@@ -107,14 +109,14 @@ int System::run(int n_steps, bool recalc_forces) {
     m_forces_valid = false;
   if (n_steps > 0)
     check_stability_before_run(*this);
-  if (m_integrator == IntegratorKind::Shardlow)
-    return run_shardlow(n_steps);
-  if (m_integrator == IntegratorKind::DPDVV)
-    return run_dpd_vv(n_steps);
-  return run_vv(n_steps);
+  return run_md(n_steps);
 }
 
-int System::run_vv(int n_steps) {
+// One loop for the MD integrators: velocity Verlet, and the DPD integrators
+// that change only what follows the second half kick (Shardlow S1: an exact
+// pairwise thermostat sweep; DPD-VV: the friction of the half kick's velocity
+// change added to the forces).
+int System::run_md(int n_steps) {
   if (m_time_step <= 0.)
     throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
   update_thermostat_prefactors();
@@ -122,6 +124,7 @@ int System::run_vv(int n_steps) {
     compute_forces(true);
     check_forces_finite();
   }
+  [[maybe_unused]] std::vector<Vector3d> dv;
   for (int s = 0; s < n_steps; ++s) {
     drift_checked();
     ++m_step;
@@ -136,7 +139,25 @@ int System::run_vv(int n_steps) {
       m_forces_valid = false;
       throw;
     }
+#ifdef DPD
+    if (m_integrator == IntegratorKind::DPDVV) {
+      int const n = m_ps.n_local();
+      dv.assign(m_ps.v.begin(), m_ps.v.begin() + n);
+      kick(0.5 * m_time_step);
+      if (m_thermo.dpd.active) {
+        for (int i = 0; i < n; ++i)
+          dv[i] = m_ps.v[i] - dv[i];
+        add_friction_of_dv(*this, dv);
+      }
+    } else {
+      kick(0.5 * m_time_step);
+      // the sweep sees x(t + dt), so the state returned is the one just thermalised
+      if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active)
+        shardlow_sweep(*this);
+    }
+#else
     kick(0.5 * m_time_step);
+#endif
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);

@@ -26,6 +26,7 @@
 // (and the transverse analogue): the friction is linear in v, so this is the
 // friction of v(t + dt) minus that of v(t + dt/2). Colloid and wall friction
 // stay explicit.
+#include "integrators/dpd_integrators.hpp"
 #include "integrators/stability.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
@@ -63,6 +64,10 @@ struct OU {
 // then do the sequential velocity updates in list order.
 constexpr int kBlock = 512;
 
+#endif // DPD
+} // namespace
+
+#ifdef DPD
 void shardlow_sweep(System &sys) {
   auto &ps = sys.particles();
   auto const &ia = sys.interactions();
@@ -183,94 +188,5 @@ void add_friction_of_dv(System &sys, std::vector<Vector3d> const &dv) {
 }
 #endif // DPD
 
-} // namespace
-
-int System::run_shardlow(int n_steps) {
-#ifndef DPD
-  (void)n_steps;
-  throw Utils::FeaturesError("DPD", "integrator.set_shardlow");
-#else
-  if (m_time_step <= 0.)
-    throw Utils::RuntimeError(
-        "time_step is not set: set system.time_step > 0 before running");
-  update_thermostat_prefactors();
-  m_dpd_in_pair_loop = false;
-  if (!m_forces_valid || n_steps == 0) {
-    compute_forces(true);
-    check_forces_finite();
-  }
-  for (int s = 0; s < n_steps; ++s) {
-    drift_checked();
-    ++m_step;
-    m_time += m_time_step;
-    ++m_thermo.dpd.philox_counter;
-    compute_forces(true);
-    try {
-      check_forces_finite();
-    } catch (...) {
-      m_forces_valid = false;
-      throw;
-    }
-    kick(0.5 * m_time_step);
-    // The pair sweep at x(t + dt), after the second half kick, so that the
-    // state returned to the user is the one just thermalised (doc/stability.md
-    // compares this with the sweep before the drift and a BAOAB-like sweep at
-    // mid-step).
-    if (m_thermo.dpd.active)
-      shardlow_sweep(*this); // ghosts positions are those of x(t + dt)
-    for (auto const &acc : m_auto_update)
-      if (acc->delta_N > 0 &&
-          m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
-        acc->update(*this);
-  }
-  return n_steps;
-#endif
-}
-
-int System::run_dpd_vv(int n_steps) {
-#ifndef DPD
-  (void)n_steps;
-  throw Utils::FeaturesError("DPD", "integrator.set_dpd_vv");
-#else
-  if (m_time_step <= 0.)
-    throw Utils::RuntimeError(
-        "time_step is not set: set system.time_step > 0 before running");
-  update_thermostat_prefactors();
-  m_dpd_in_pair_loop = true;
-  if (!m_forces_valid || n_steps == 0) {
-    compute_forces(true);
-    check_forces_finite();
-  }
-  std::vector<Vector3d> dv;
-  for (int s = 0; s < n_steps; ++s) {
-    drift_checked();
-    ++m_step;
-    m_time += m_time_step;
-    ++m_thermo.dpd.philox_counter;
-    compute_forces(true);
-    try {
-      check_forces_finite();
-    } catch (...) {
-      m_forces_valid = false;
-      throw;
-    }
-    int const n = m_ps.n_local();
-    dv.resize(n);
-    for (int i = 0; i < n; ++i)
-      dv[i] = m_ps.v[i];
-    kick(0.5 * m_time_step);
-    if (m_thermo.dpd.active) {
-      for (int i = 0; i < n; ++i)
-        dv[i] = m_ps.v[i] - dv[i];
-      add_friction_of_dv(*this, dv);
-    }
-    for (auto const &acc : m_auto_update)
-      if (acc->delta_N > 0 &&
-          m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
-        acc->update(*this);
-  }
-  return n_steps;
-#endif
-}
 
 } // namespace Marble

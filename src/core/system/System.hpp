@@ -159,10 +159,8 @@ public:
 
 private:
   void check_forces_finite() const;
-  int run_vv(int n_steps);
+  int run_md(int n_steps); // VV, Shardlow, DPD-VV
   int run_sd(int n_steps);
-  int run_shardlow(int n_steps); // integrators/shardlow.cpp
-  int run_dpd_vv(int n_steps);   // integrators/shardlow.cpp
   void set_pair_dpd_in_force_loop(bool on) {
     if (on != m_dpd_in_pair_loop)
       m_forces_valid = false;
