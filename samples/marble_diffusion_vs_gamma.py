@@ -17,13 +17,11 @@ Writes marble_diffusion_vs_gamma.json (rewritten after every run, so a killed
 run leaves its data) and marble_diffusion_vs_gamma.png into --out.
 """
 import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from marble_vacf import (DT, KT, QUICK, analyse_equilibrium, common_args,  # noqa: E402
+from marble.colloid_runs import (DT, KT, QUICK, analyse_equilibrium, common_args,  # noqa: E402
                          drag_run, equilibrium_run, make_system, plot_setup, write_json)
 from marble import theory as th  # noqa: E402
 

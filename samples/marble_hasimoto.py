@@ -18,13 +18,11 @@ points gives the hydrodynamic radius R_h (marble.theory).
 Writes marble_hasimoto.json (after every box size) and marble_hasimoto.png into --out.
 """
 import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from marble_vacf import (DT, KT, QUICK, common_args, drag_run, make_system,  # noqa: E402
+from marble.colloid_runs import (DT, KT, QUICK, common_args, drag_run, make_system,  # noqa: E402
                          plot_setup, write_json)
 from marble import theory as th  # noqa: E402
 

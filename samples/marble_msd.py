@@ -5,7 +5,7 @@ is cut into independent chunks; a multiple-tau correlator (discard1
 compression) measures the MSD <|r(t) - r(0)|^2> of the colloid centre in each.
 D comes from a straight-line fit a + 6 D t (marble.diffusion.msd_fit) to the
 MSD of the colloid-solvent relative coordinate (the colloid's own MSD divided
-by (Ms/(M+Ms))^2, see marble_vacf.equilibrium_run); the
+by (Ms/(M+Ms))^2, see marble.colloid_runs.equilibrium_run); the
 paper fits t > 25 tau (--paper does too; the reduced box starts at
 min(25, 3 L^2/(4 pi^2 nu)) tau). Error: spread of the per-chunk fits.
 The plot shows the MSD on log-log axes with the fitted 6 D t line and
@@ -18,13 +18,11 @@ Hasimoto's 6 D(L) t.
 Writes marble_msd.json and marble_msd.png into --out (the JSON after every chunk).
 """
 import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from marble_vacf import (DT, KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
+from marble.colloid_runs import (DT, KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
                          make_system, msd_window, plot_setup, rows, write_json)
 from marble import diffusion as dif  # noqa: E402
 from marble import theory as th  # noqa: E402
@@ -68,7 +66,7 @@ def main():
     t, M = np.asarray(eq["t_msd"]), rows(eq["msd"])
     fit_lab = dif.msd_fit(t, M, window=win)
     # relative coordinate colloid - solvent (what drag and Hasimoto describe;
-    # see marble_vacf.equilibrium_run)
+    # see marble.colloid_runs.equilibrium_run)
     fit = dif.msd_fit(t, M / ff, window=win)
     err = fit.error if len(M) > 1 else float("nan")
     print(f"MSD fit ({win[0]:.1f}-{win[1]:.1f} tau, {fit.method}): D = {fit.value:.5f} +- {err:.5f};"

@@ -15,12 +15,11 @@ at reduced size, by the three methods of the paper.
    must be below 15 % so that the comparison means something.
 
 The equilibrium D's are those of the colloid-solvent relative coordinate (the
-colloid's own divided by (Ms/(M+Ms))^2, see samples/marble_vacf.py), which is
-what the drag method measures. The helpers live in samples/marble_vacf.py.
+colloid's own divided by (Ms/(M+Ms))^2, see marble.colloid_runs), which is
+what the drag method measures. The helpers live in marble.colloid_runs.
 
 Measured: 225 s CPU (299 s wall on a shared, loaded 2-core machine)."""
 import os
-import sys
 import time
 
 import numpy as np
@@ -32,9 +31,7 @@ pytestmark = pytest.mark.skipif(
     not marble.has_features("MARBLE", "EXTERNAL_FORCE"),
     reason="missing feature MARBLE or EXTERNAL_FORCE")
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                "..", "..", "samples"))
-from marble_vacf import (DT, analyse_equilibrium, drag_run, equilibrium_run,  # noqa: E402
+from marble.colloid_runs import (DT, analyse_equilibrium, drag_run, equilibrium_run,  # noqa: E402
                          make_system)
 from marble import theory as th  # noqa: E402
 

@@ -17,7 +17,6 @@ Run lengths (tau) can be scaled with MARBLE_PAPER_SCALE (default 1):
 equilibrium 2000, drag 500 per seed. Expected CPU time on one core: about
 4 hours (Fig. 4) + 1 hour (Fig. 5)."""
 import os
-import sys
 
 import numpy as np
 import pytest
@@ -28,9 +27,7 @@ pytestmark = pytest.mark.skipif(
     not marble.has_features("MARBLE", "EXTERNAL_FORCE"),
     reason="missing feature MARBLE or EXTERNAL_FORCE")
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                "..", "..", "samples"))
-from marble_vacf import (analyse_equilibrium, drag_run, equilibrium_run,  # noqa: E402
+from marble.colloid_runs import (analyse_equilibrium, drag_run, equilibrium_run,  # noqa: E402
                          make_system)
 from marble import theory as th  # noqa: E402
 

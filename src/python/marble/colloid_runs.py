@@ -1,0 +1,207 @@
+"""Runs of a marble colloid in the marble paper's DPD solvent, shared by the
+samples that reproduce Zhou & Schmid's Figs. 2-5 (samples/marble_*.py) and by
+the diffusion tests: set-up, equilibrium runs with multiple-tau correlators
+(VACF, rotational VACF, MSD), drag runs, the choice of fit windows, and small
+I/O helpers. doc/paper-reproduction.md explains the method (incl. the frame
+factor (Ms/(M+Ms))^2 between the colloid's own and the relative coordinate).
+"""
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+from . import accumulators as acc
+from . import diffusion as dif
+from . import observables as obs
+from . import theory as th
+from .colloids import add_marble
+from .system import System
+
+KT, RHO, DT, GAMMA_DPD = 1.0, 3.0, 0.01, 5.0
+QUICK = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
+
+
+def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0):
+    """Paper solvent in a cubic box of side L with one marble of radius R at the
+    centre; total momentum set to zero; `warmup` tau of equilibration."""
+    system = System(box_l=[L] * 3)
+    system.time_step = DT
+    system.cell_system.skin = 0.4
+    rng = np.random.default_rng(seed)
+    n = int(round(RHO * L ** 3))
+    system.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * np.sqrt(KT), type=0)
+    system.thermostat.set_dpd(kT=KT, seed=seed)
+    system.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA_DPD, k=1,
+                                                 r_cut=1.0)
+    colloid = add_marble(system, pos=[L / 2] * 3, radius=R, gamma=gamma, coupling=coupling)
+    solvent = system.part.select(type=0)
+    # zero total momentum: a drifting centre of mass would add a constant to the
+    # VACF and a ballistic t^2 term to the MSD
+    p = colloid.mass * np.asarray(colloid.v) + np.sum(solvent.v, axis=0)
+    solvent.v = np.asarray(solvent.v) - p / len(solvent)
+    if warmup > 0:
+        system.integrator.run(int(round(warmup / DT)))
+    return system, colloid, solvent
+
+
+def tau_box(L, eta):
+    """Decay time of the slowest shear mode of the box, L^2/(4 pi^2 nu): the
+    VACF tail is cut off after a few of these, so the Green-Kubo integral has
+    converged to D(L)."""
+    return L ** 2 / (4 * np.pi ** 2 * eta / RHO)
+
+
+def gk_window(L, eta):
+    tb = tau_box(L, eta)
+    return (3.0 * tb, 6.0 * tb)
+
+
+def msd_window(L, eta, t_max, paper=False):
+    """The paper fits t > 25 tau; in small boxes the linear regime starts earlier
+    (3 tau_box). The upper end is limited by the statistics of the chunk."""
+    lo = 25.0 if paper else min(25.0, 3.0 * tau_box(L, eta))
+    return (lo, max(t_max, 2 * lo))
+
+
+class Progress:
+    def __init__(self, total_steps, label=""):
+        self.total, self.done, self.t0, self.label = total_steps, 0, time.time(), label
+
+    def advance(self, steps):
+        self.done += steps
+        el = time.time() - self.t0
+        eta = el / self.done * (self.total - self.done)
+        print(f"  {self.label}{self.done}/{self.total} steps ({100 * self.done / self.total:5.1f} %)"
+              f"  elapsed {el:6.0f} s  ETA {eta:6.0f} s", flush=True)
+
+
+def equilibrium_run(system, colloid, t_chunk, n_chunks, vacf_tau_max, msd_tau_max,
+                    progress=None, on_chunk=None, pieces=4):
+    """n_chunks independent correlator runs of t_chunk tau each. Returns a dict
+    with lag times and one row per chunk of the VACF (sum over x, y, z), the
+    rotational VACF and the MSD (sum over x, y, z)."""
+    vel = obs.ParticleVelocities(ids=[colloid.id], system=system)
+    omg = obs.ParticleAngularVelocities(ids=[colloid.id], system=system)
+    pos = obs.ParticlePositions(ids=[colloid.id], system=system)
+    # The total momentum is zero, so the colloid moves with the fraction
+    # Ms/(M+Ms) of the colloid-solvent relative coordinate x = r_c - r_s,com.
+    # The drag method and Hasimoto's D(L) give the mobility of x (force F on
+    # the colloid, -F on the solvent, velocity relative to the solvent), so
+    # equilibrium D's of the colloid itself are smaller by frame_factor =
+    # (Ms/(M+Ms))^2 (5.5 % at R=1.5, L=8; 2.8 % at R=3, L=20).
+    M = float(colloid.mass)
+    Ms = float(np.sum(system.part.all().mass)) - M
+    out = {"vacf": [], "rvacf": [], "msd": [], "t_chunk": t_chunk,
+           "frame_factor": (Ms / (M + Ms)) ** 2}
+    steps = int(round(t_chunk / DT))
+    for c in range(n_chunks):
+        cv = acc.Correlator(obs1=vel, tau_lin=16, tau_max=vacf_tau_max, delta_N=5,
+                            corr_operation="scalar_product", compress1="linear")
+        cw = acc.Correlator(obs1=omg, tau_lin=16, tau_max=vacf_tau_max, delta_N=5,
+                            corr_operation="scalar_product", compress1="linear")
+        cm = acc.Correlator(obs1=pos, tau_lin=16, tau_max=msd_tau_max, delta_N=10,
+                            corr_operation="square_distance_componentwise",
+                            compress1="discard1")
+        for k in (cv, cw, cm):
+            system.auto_update_accumulators.add(k)
+        for i in range(pieces):
+            n = steps // pieces + (1 if i < steps % pieces else 0)
+            system.integrator.run(n)
+            if progress:
+                progress.advance(n)
+        system.auto_update_accumulators.clear()
+        out["t_vacf"] = cv.lag_times()
+        out["t_msd"] = cm.lag_times()
+        out["vacf"].append(cv.result()[:, 0])
+        out["rvacf"].append(cw.result()[:, 0])
+        out["msd"].append(cm.result()[:, 0, :].sum(axis=1))
+        if on_chunk:
+            on_chunk(out, c + 1)
+    return out
+
+
+def drag_run(system, colloid, force, t_prod, t_equil=20.0, delta_N=10):
+    """Drag method via marble.diffusion.measure_drag; returns the Result
+    (D, D_err, v, v_err attributes).
+
+    The error is the larger of the blocking error and the statistical floor
+    sqrt(2 D / t_prod) for the time average of the velocity (its variance is
+    2 D_x / T for a run much longer than the velocity correlation time): in
+    runs of a few hundred tau the blocking analysis has no plateau and
+    underestimates the error (we saw 3-sigma "outliers" with it alone).
+    The blocking values are kept as D_err_blocking, v_err_blocking."""
+    res = dif.measure_drag(system, [colloid], force=[force, 0.0, 0.0],
+                           steps=int(round(t_prod / DT)),
+                           equilibration_steps=int(round(t_equil / DT)), delta_N=delta_N, kT=KT)
+    v_floor = np.sqrt(2.0 * max(res.D, 0.0) / t_prod)
+    res.D_err_blocking, res.v_err_blocking = res.D_err, res.v_err
+    if v_floor > res.v_err:
+        res.v_err = v_floor
+        res.D_err = KT * v_floor / np.linalg.norm(res.force)
+    return res
+
+
+def rows(a):
+    return np.atleast_2d(np.asarray(a, dtype=float))
+
+
+def analyse_equilibrium(eq, L, eta, paper=False, relative=True):
+    """Green-Kubo and MSD-fit D with errors over the chunks (needs >= 2).
+    relative=True divides by eq["frame_factor"]: D of the colloid-solvent
+    relative coordinate, the quantity that the drag method and Hasimoto's
+    D(L) describe (see equilibrium_run)."""
+    f = 1.0 / eq["frame_factor"] if relative else 1.0
+    t, V = np.asarray(eq["t_vacf"]), rows(eq["vacf"]) * f
+    tm, M = np.asarray(eq["t_msd"]), rows(eq["msd"]) * f
+    win_gk = gk_window(L, eta)
+    win_gk = (min(win_gk[0], 0.5 * t[-1]), min(win_gk[1], t[-1]))
+    gk = dif.green_kubo(t, V, window=win_gk)
+    win_msd = msd_window(L, eta, 0.5 * tm[-1], paper)
+    win_msd = (min(win_msd[0], 0.25 * tm[-1]), min(win_msd[1], tm[-1]))
+    msd = dif.msd_fit(tm, M, window=win_msd)
+    return gk, win_gk, msd, win_msd
+
+
+def jsonable(x):
+    if isinstance(x, dict):
+        return {k: jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        return None if not np.isfinite(x) else float(x)
+    if isinstance(x, np.integer):
+        return int(x)
+    return x
+
+
+def write_json(path, data):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(jsonable(data), f, indent=1)
+    os.replace(tmp, path)
+
+
+def common_args(description, default_time, paper_time):
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--paper", action="store_true", help="paper size: R=3, L=20, paper run lengths")
+    p.add_argument("--time", type=float, default=None,
+                   help=f"production time per run in tau (default {default_time}, "
+                        f"--paper {paper_time})")
+    p.add_argument("--eta", type=float, default=1.24,
+                   help="solvent viscosity for the theory (the engine's measured value)")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--out", default=".", help="output directory")
+    return p
+
+
+def plot_setup():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
