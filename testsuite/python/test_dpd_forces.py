@@ -14,31 +14,14 @@ if not marble.has_features("DPD"):
     raise unittest.SkipTest("missing feature DPD")
 from unittest_decorators import skipIfMissingFeatures
 
-MASK = (1 << 64) - 1
-M0, M1 = 0xD2E7470EE14C6C93, 0xCA5A826395121157
-W0, W1 = 0x9E3779B97F4A7C15, 0xBB67AE8584CAA73B
-SALT_DPD = 1
-KEY1 = 0x6d61726231  # utils/noise.hpp
-
-
-def philox4x64(ctr, key):
-    """Philox4x64-10 (Salmon et al., SC11), written from the paper's round function."""
-    c = list(ctr)
-    k0, k1 = key
-    for rnd in range(10):
-        if rnd:
-            k0, k1 = (k0 + W0) & MASK, (k1 + W1) & MASK
-        p0, p1 = M0 * c[0], M1 * c[2]
-        c = [(p1 >> 64) ^ c[1] ^ k0, p1 & MASK, (p0 >> 64) ^ c[3] ^ k1, p0 & MASK]
-    return c
+from reference_noise import SALT_DPD, uniform3
 
 
 def noise(seed, counter, a, b):
     """Uniform 3-vector in (-1/2, 1/2] of the unordered pair (a, b), sign by id order."""
     a, b = int(a), int(b)
     lo, hi = min(a, b), max(a, b)
-    r = philox4x64([counter, lo, hi, SALT_DPD], [seed, KEY1])
-    xi = np.array([((x >> 11) + 1.0) * 2.0**-53 - 0.5 for x in r[:3]])
+    xi = uniform3(seed, SALT_DPD, counter, lo, hi)
     return xi if a < b else -xi
 
 

@@ -13,28 +13,11 @@ import marble
 from marble.shapes import Wall
 from unittest_decorators import skipIfMissingFeatures
 
-MASK = (1 << 64) - 1
-M0, M1 = 0xD2E7470EE14C6C93, 0xCA5A826395121157
-W0, W1 = 0x9E3779B97F4A7C15, 0xBB67AE8584CAA73B
-SALT_WALL = 3  # utils/noise.hpp RNGSalt::tunable_slip_wall
-KEY1 = 0x6d61726231
-
-
-def philox4x64(ctr, key):
-    """Philox4x64-10 (Salmon et al., SC11), from the paper's round function."""
-    c = list(ctr)
-    k0, k1 = key
-    for rnd in range(10):
-        if rnd:
-            k0, k1 = (k0 + W0) & MASK, (k1 + W1) & MASK
-        p0, p1 = M0 * c[0], M1 * c[2]
-        c = [(p1 >> 64) ^ c[1] ^ k0, p1 & MASK, (p0 >> 64) ^ c[3] ^ k1, p0 & MASK]
-    return c
+from reference_noise import SALT_WALL, uniform3
 
 
 def wall_noise(seed, counter, pid, wid):
-    r = philox4x64([counter, int(pid), int(wid), SALT_WALL], [seed, KEY1])
-    return np.array([((x >> 11) + 1.0) * 2.0**-53 - 0.5 for x in r[:3]])
+    return uniform3(seed, SALT_WALL, counter, pid, wid)
 
 
 RC_WCA = 2.0 ** (1.0 / 6.0)
