@@ -1,6 +1,7 @@
 // Script interface of the DPD analysis: the DPD part of the pressure tensor
 // (core: analysis/dpd_stress.cpp; convention: doc/dpd.md).
 #include "script_interface/bindings.hpp"
+#include "script_interface/params.hpp"
 #include "utils/errors.hpp"
 
 #include <pybind11/numpy.h>
@@ -10,13 +11,6 @@
 
 namespace ScriptInterface {
 
-namespace {
-py::array_t<double> mat3(std::array<double, 9> const &m) {
-  py::array_t<double> a({3, 3});
-  std::copy(m.begin(), m.end(), a.mutable_data());
-  return a;
-}
-} // namespace
 
 void bind_dpd(py::class_<Marble::System> &cls) {
   cls.def("dpd_stress", [](Marble::System &s) {
@@ -26,9 +20,9 @@ void bind_dpd(py::class_<Marble::System> &cls) {
     for (int k = 0; k < 9; ++k)
       tot[k] = st.friction[k] + st.noise[k];
     py::dict d;
-    d["total"] = mat3(tot);
-    d["friction"] = mat3(st.friction);
-    d["noise"] = mat3(st.noise);
+    d["total"] = mat_to_array(tot);
+    d["friction"] = mat_to_array(st.friction);
+    d["noise"] = mat_to_array(st.noise);
     return d;
 #else
     (void)s;

@@ -7,6 +7,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -107,5 +109,20 @@ inline void check_keys(std::string const &what, py::dict const &kw,
 }
 
 inline bool has(py::dict const &kw, char const *key) { return kw.contains(key); }
+
+/** A 3-vector as a numpy array of shape (3,). */
+inline py::array_t<double> vec_to_array(Utils::Vector3d const &v) {
+  py::array_t<double> a(3);
+  auto *p = a.mutable_data();
+  p[0] = v[0], p[1] = v[1], p[2] = v[2];
+  return a;
+}
+
+/** A row-major 3x3 tensor as a numpy array of shape (3, 3). */
+inline py::array_t<double> mat_to_array(std::array<double, 9> const &m) {
+  py::array_t<double> a({3, 3});
+  std::copy(m.begin(), m.end(), a.mutable_data());
+  return a;
+}
 
 } // namespace ScriptInterface

@@ -22,19 +22,6 @@ Vector3d check_box(py::handle h) {
   return l;
 }
 
-py::array_t<double> vec_to_array(Vector3d const &v) {
-  py::array_t<double> a(3);
-  auto *p = a.mutable_data();
-  p[0] = v[0], p[1] = v[1], p[2] = v[2];
-  return a;
-}
-
-py::array_t<double> mat_to_array(std::array<double, 9> const &m) {
-  py::array_t<double> a({3, 3});
-  std::copy(m.begin(), m.end(), a.mutable_data());
-  return a;
-}
-
 } // namespace
 
 void bind_system(py::class_<System> &cls) {
