@@ -1,6 +1,7 @@
 // The compiled part of the Python package: marble._marble.
 #include "script_interface/bindings.hpp"
 
+#include "comm/Communicator.hpp"
 #include "config/features.hpp"
 #include "utils/errors.hpp"
 
@@ -38,6 +39,12 @@ PYBIND11_MODULE(_marble, m) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }
   });
+  // SPMD: every rank runs the script; MPI is set up on import (a plain
+  // `python script.py` is a one-rank run) and finalised at interpreter exit.
+  Marble::mpi_init_once();
+  py::module_::import("atexit").attr("register")(py::cpp_function([] { Marble::mpi_finalize_once(); }));
+  m.def("mpi_rank", [] { return Marble::Communicator().rank(); });
+  m.def("mpi_size", [] { return Marble::Communicator().size(); });
   m.def("features", [] { return split(MARBLE_FEATURES_ACTIVE); });
   m.def("all_features", [] { return split(MARBLE_FEATURES_ALL); });
 

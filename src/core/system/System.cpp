@@ -150,6 +150,23 @@ void System::ensure_lists() {
   }
 }
 
+void System::rebuild_lists_at_saved_positions() {
+  int const n = m_ps.n_local();
+  std::vector<Utils::Vector3d> current(m_ps.pos.begin(), m_ps.pos.begin() + n);
+  std::vector<int> ids(m_ps.id.begin(), m_ps.id.begin() + n);
+  for (int i = 0; i < n; ++i)
+    m_ps.pos[i] = m_ps.pos_at_rebuild[i];
+  m_cells.invalidate();
+  ensure_lists();
+  // the rebuild keeps the (cell-sorted) order; put the current positions back by id
+  std::vector<Utils::Vector3d> by_id(static_cast<std::size_t>(m_ps.max_id() + 1));
+  for (int i = 0; i < n; ++i)
+    by_id[static_cast<std::size_t>(ids[i])] = current[i];
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    m_ps.pos[i] = by_id[static_cast<std::size_t>(m_ps.id[i])];
+  m_cells.update_ghosts(m_ps);
+}
+
 Utils::Vector3d System::distance_vec(int pid1, int pid2) const {
   int const i = m_ps.index_of(pid1), j = m_ps.index_of(pid2);
   return m_box.get_mi_vector(m_ps.pos[j], m_ps.pos[i]);

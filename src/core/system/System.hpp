@@ -2,6 +2,7 @@
 // The System owns everything a simulation needs; there is no global state.
 #include "box/BoxGeometry.hpp"
 #include "cells/CellSystem.hpp"
+#include "comm/Communicator.hpp"
 #include "constraints/Constraints.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
@@ -56,8 +57,13 @@ struct DPDStress {
 };
 
 class System {
+  friend struct CheckpointAccess; // io/checkpoint.cpp: the whole state, bit for bit
+
 public:
   explicit System(Utils::Vector3d const &box_l);
+
+  /** The ranks this system runs on (a group of one without MPI). */
+  Communicator const &comm() const { return m_comm; }
 
   // --- geometry and parameters (validated by the script interface) ---
   BoxGeometry const &box() const { return m_box; }
@@ -124,6 +130,11 @@ public:
   CellSystem &cells() { return m_cells; }
   /** Make sure the Verlet list matches the current positions and interactions. */
   void ensure_lists();
+  /** Rebuild the cell and pair lists exactly as they were at the last
+   * rebuild (for checkpoint restart): the rebuild is done with every local at
+   * its pos_at_rebuild, then the current positions are put back and the
+   * ghosts refreshed. Locals must be in the stored order. Collective. */
+  void rebuild_lists_at_saved_positions();
   Energies energies();
   PressureTensor pressure_tensor();
   /** DPD contribution sum d (x) F_DPD / V with the current velocities and noise. */
@@ -170,6 +181,7 @@ private:
   void kick(double half_dt);
   void drift_checked();
 
+  Communicator m_comm;
   BoxGeometry m_box;
   ParticleStore m_ps;
   CellSystem m_cells;

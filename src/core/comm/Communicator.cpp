@@ -1,0 +1,178 @@
+#include "comm/Communicator.hpp"
+
+#include "utils/errors.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace Marble {
+
+#ifdef MARBLE_HAVE_MPI
+namespace {
+bool g_we_initialised = false;
+bool mpi_ready() {
+  int init = 0, fin = 0;
+  MPI_Initialized(&init);
+  MPI_Finalized(&fin);
+  return init && !fin;
+}
+} // namespace
+
+void mpi_init_once() {
+  int init = 0;
+  MPI_Initialized(&init);
+  if (!init) {
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    g_we_initialised = true;
+  }
+}
+
+void mpi_finalize_once() {
+  if (g_we_initialised && mpi_ready())
+    MPI_Finalize();
+  g_we_initialised = false;
+}
+
+Communicator::Communicator() {
+  if (mpi_ready()) {
+    m_comm = MPI_COMM_WORLD;
+    MPI_Comm_rank(m_comm, &m_rank);
+    MPI_Comm_size(m_comm, &m_size);
+  }
+}
+
+void Communicator::sum_inplace(double *x, int n) const {
+  if (m_size > 1 && n > 0)
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, m_comm);
+}
+void Communicator::sum_inplace(long long *x, int n) const {
+  if (m_size > 1 && n > 0)
+    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_LONG_LONG, MPI_SUM, m_comm);
+}
+double Communicator::max(double x) const {
+  if (m_size > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, m_comm);
+  return x;
+}
+double Communicator::min(double x) const {
+  if (m_size > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, m_comm);
+  return x;
+}
+int Communicator::max(int x) const {
+  if (m_size > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT, MPI_MAX, m_comm);
+  return x;
+}
+int Communicator::min(int x) const {
+  if (m_size > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT, MPI_MIN, m_comm);
+  return x;
+}
+void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {
+  if (m_size > 1 && n > 0)
+    MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, m_comm);
+}
+void Communicator::bcast(std::vector<char> &data, int root) const {
+  if (m_size == 1)
+    return;
+  long long n = static_cast<long long>(data.size());
+  MPI_Bcast(&n, 1, MPI_LONG_LONG, root, m_comm);
+  data.resize(static_cast<std::size_t>(n));
+  bcast_bytes(data.data(), data.size(), root);
+}
+void Communicator::bcast(std::string &s, int root) const {
+  if (m_size == 1)
+    return;
+  std::vector<char> v(s.begin(), s.end());
+  bcast(v, root);
+  s.assign(v.begin(), v.end());
+}
+std::vector<int> Communicator::allgather(int x) const {
+  std::vector<int> out(m_size, x);
+  if (m_size > 1)
+    MPI_Allgather(&x, 1, MPI_INT, out.data(), 1, MPI_INT, m_comm);
+  return out;
+}
+std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local) const {
+  if (m_size == 1)
+    return local;
+  auto const counts = allgather(static_cast<int>(local.size()));
+  std::vector<int> displs(m_size, 0);
+  for (int r = 1; r < m_size; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<char> out(static_cast<std::size_t>(displs.back() + counts.back()));
+  MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_BYTE, out.data(), counts.data(),
+                 displs.data(), MPI_BYTE, m_comm);
+  return out;
+}
+std::vector<std::vector<char>>
+Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const {
+  if (m_size == 1)
+    return {send.empty() ? std::vector<char>{} : send[0]};
+  std::vector<int> sc(m_size, 0), rc(m_size, 0), sd(m_size, 0), rd(m_size, 0);
+  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
+    sc[r] = static_cast<int>(send[r].size());
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, m_comm);
+  for (int r = 1; r < m_size; ++r) {
+    sd[r] = sd[r - 1] + sc[r - 1];
+    rd[r] = rd[r - 1] + rc[r - 1];
+  }
+  std::vector<char> sbuf(static_cast<std::size_t>(sd.back() + sc.back()));
+  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
+    std::copy(send[r].begin(), send[r].end(), sbuf.begin() + sd[r]);
+  std::vector<char> rbuf(static_cast<std::size_t>(rd.back() + rc.back()));
+  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_BYTE, rbuf.data(), rc.data(), rd.data(),
+                MPI_BYTE, m_comm);
+  std::vector<std::vector<char>> out(m_size);
+  for (int r = 0; r < m_size; ++r)
+    out[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
+  return out;
+}
+void Communicator::barrier() const {
+  if (m_size > 1)
+    MPI_Barrier(m_comm);
+}
+void Communicator::throw_if_any(std::string const &local_error) const {
+  if (m_size == 1) {
+    if (!local_error.empty())
+      throw Utils::RuntimeError(local_error);
+    return;
+  }
+  int const first = min(local_error.empty() ? m_size : m_rank);
+  if (first == m_size)
+    return;
+  std::string msg = local_error;
+  bcast(msg, first);
+  throw Utils::RuntimeError(msg);
+}
+
+#else // no MPI
+
+void mpi_init_once() {}
+void mpi_finalize_once() {}
+Communicator::Communicator() = default;
+void Communicator::sum_inplace(double *, int) const {}
+void Communicator::sum_inplace(long long *, int) const {}
+double Communicator::max(double x) const { return x; }
+double Communicator::min(double x) const { return x; }
+int Communicator::max(int x) const { return x; }
+int Communicator::min(int x) const { return x; }
+void Communicator::bcast_bytes(void *, std::size_t, int) const {}
+void Communicator::bcast(std::vector<char> &, int) const {}
+void Communicator::bcast(std::string &, int) const {}
+std::vector<int> Communicator::allgather(int x) const { return {x}; }
+std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local) const { return local; }
+std::vector<std::vector<char>>
+Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const {
+  return {send.empty() ? std::vector<char>{} : send[0]};
+}
+void Communicator::barrier() const {}
+void Communicator::throw_if_any(std::string const &local_error) const {
+  if (!local_error.empty())
+    throw Utils::RuntimeError(local_error);
+}
+#endif
+
+} // namespace Marble

@@ -1,0 +1,117 @@
+#pragma once
+// The process group a System runs on. Every rank runs the same script (SPMD):
+// script-interface calls are collective, particle reads gather.
+//
+// Without MPI (or when MPI was never initialised, e.g. in the C++ unit tests)
+// this is a group of one and every call below is a cheap no-op. In an MPI
+// build the Python module initialises MPI on import (marble._marble), so a
+// plain `build/pymarble script.py` is a one-rank MPI run and
+// `mpiexec -n N build/pymarble script.py` an N-rank one.
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#ifdef MARBLE_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace Marble {
+
+class Communicator {
+public:
+  /** MPI_COMM_WORLD if MPI is initialised, else a group of one. */
+  Communicator();
+
+  int rank() const { return m_rank; }
+  int size() const { return m_size; }
+  bool is_root() const { return m_rank == 0; }
+  bool parallel() const { return m_size > 1; }
+#ifdef MARBLE_HAVE_MPI
+  /** The MPI communicator (MPI_COMM_SELF when MPI is not initialised). */
+  MPI_Comm comm() const { return m_comm; }
+#endif
+
+  // --- reductions (result on every rank) ---
+  void sum_inplace(double *x, int n) const;
+  void sum_inplace(long long *x, int n) const;
+  double sum(double x) const {
+    sum_inplace(&x, 1);
+    return x;
+  }
+  long long sum(long long x) const {
+    sum_inplace(&x, 1);
+    return x;
+  }
+  double max(double x) const;
+  double min(double x) const;
+  int max(int x) const;
+  int min(int x) const;
+  bool any(bool b) const { return max(b ? 1 : 0) > 0; }
+
+  // --- data movement (T trivially copyable) ---
+  /** Broadcast raw bytes from @p root (the size must be equal on all ranks). */
+  void bcast_bytes(void *data, std::size_t n, int root) const;
+  /** Broadcast a byte vector of any size from @p root. */
+  void bcast(std::vector<char> &data, int root) const;
+  void bcast(std::string &s, int root) const;
+  template <typename T> void bcast_value(T &x, int root) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bcast_bytes(&x, sizeof(T), root);
+  }
+  /** Concatenation of every rank's @p local in rank order, on every rank. */
+  template <typename T> std::vector<T> allgatherv(std::vector<T> const &local) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<char> bytes(local.size() * sizeof(T));
+    if (!local.empty())
+      std::memcpy(bytes.data(), local.data(), bytes.size());
+    auto const all = allgatherv_bytes(bytes);
+    std::vector<T> out(all.size() / sizeof(T));
+    if (!out.empty())
+      std::memcpy(out.data(), all.data(), all.size());
+    return out;
+  }
+  /** Per-rank counts of allgatherv (bytes / sizeof(T)). */
+  std::vector<int> allgather(int x) const;
+  /** @p send[r] goes to rank r; returns what every rank sent to this one, by source rank. */
+  template <typename T>
+  std::vector<std::vector<T>> alltoallv(std::vector<std::vector<T>> const &send) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<std::vector<char>> sb(send.size());
+    for (std::size_t r = 0; r < send.size(); ++r) {
+      sb[r].resize(send[r].size() * sizeof(T));
+      if (!send[r].empty())
+        std::memcpy(sb[r].data(), send[r].data(), sb[r].size());
+    }
+    auto const rb = alltoallv_bytes(sb);
+    std::vector<std::vector<T>> out(rb.size());
+    for (std::size_t r = 0; r < rb.size(); ++r) {
+      out[r].resize(rb[r].size() / sizeof(T));
+      if (!out[r].empty())
+        std::memcpy(out[r].data(), rb[r].data(), rb[r].size());
+    }
+    return out;
+  }
+  std::vector<char> allgatherv_bytes(std::vector<char> const &local) const;
+  std::vector<std::vector<char>> alltoallv_bytes(std::vector<std::vector<char>> const &send) const;
+  void barrier() const;
+
+  /** Collective error check: if any rank passes a non-empty @p local_error,
+   * every rank throws Utils::RuntimeError with the message of the lowest such
+   * rank (so no rank is left waiting in a collective call). */
+  void throw_if_any(std::string const &local_error) const;
+
+private:
+  int m_rank = 0, m_size = 1;
+#ifdef MARBLE_HAVE_MPI
+  MPI_Comm m_comm = MPI_COMM_SELF;
+#endif
+};
+
+/** Initialise MPI if the build has it and nobody did yet (idempotent). */
+void mpi_init_once();
+/** Finalise MPI if this module initialised it. */
+void mpi_finalize_once();
+
+} // namespace Marble
