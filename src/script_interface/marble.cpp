@@ -1,5 +1,6 @@
 // Script interface of the marble colloid coupling:
 // non_bonded_inter[c, s].marble.set_params(radius=, gamma=, r_cut=, weight_function=, k=, coupling=)
+#include <climits>
 #include "script_interface/bindings.hpp"
 #include "script_interface/params.hpp"
 
@@ -62,11 +63,15 @@ void bind_marble(py::class_<System> &cls) {
     // A coupling that exerts torque needs rotating colloids.
     if (p.transmits_torque()) {
       auto const &ps = s.particles();
+      int bad = INT_MAX;
       for (int i = 0; i < ps.n_local(); ++i)
         if (ps.type[i] == c && !ps.rotation[i])
-          value_error("marble: particle " + std::to_string(ps.id[i]) + " of colloid type " +
-                      std::to_string(c) + " does not rotate, but coupling '" + coupling +
-                      "' exerts torque: add it with rotation=True (or use coupling='dpd')");
+          bad = std::min(bad, ps.id[i]);
+      bad = s.comm().min(bad);
+      if (bad != INT_MAX)
+        value_error("marble: particle " + std::to_string(bad) + " of colloid type " +
+                    std::to_string(c) + " does not rotate, but coupling '" + coupling +
+                    "' exerts torque: add it with rotation=True (or use coupling='dpd')");
     }
     s.set_marble(c, sv, p);
 #else

@@ -196,15 +196,33 @@ std::vector<int> ids_from(py::handle ids) {
   return ids.cast<std::vector<int>>();
 }
 
+std::vector<int> global_ids(System const &s) {
+  auto ids = s.comm().allgatherv(s.particles().ids_sorted());
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+// IndexError naming the first id that no rank holds (collective).
+void check_exist_globally(System const &s, std::vector<int> const &ids) {
+  std::vector<double> found(ids.size(), 0.);
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    found[k] = s.particles().exists(ids[k]) ? 1. : 0.;
+  s.comm().sum_inplace(found.data(), static_cast<int>(found.size()));
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (found[k] != 1.)
+      throw py::index_error("particle " + std::to_string(ids[k]) + " does not exist");
+}
+
 } // namespace
 
 void bind_particles(py::class_<System> &cls) {
-  cls.def("n_part", [](System const &s) { return s.particles().n_local(); });
-  cls.def("particle_ids", [](System const &s) { return s.particles().ids_sorted(); });
-  cls.def("particle_exists", [](System const &s, int pid) { return s.particles().exists(pid); });
+  // SPMD: every rank calls these with the same arguments; reads gather over the ranks.
+  cls.def("n_part", [](System const &s) { return s.n_particles(); });
+  cls.def("particle_ids", [](System const &s) { return global_ids(s); });
+  cls.def("particle_exists", [](System const &s, int pid) { return s.comm().any(s.particles().exists(pid)); });
   cls.def("highest_particle_id", [](System const &s) {
     auto ids = s.particles().ids_sorted();
-    return ids.empty() ? -1 : ids.back();
+    return s.comm().max(ids.empty() ? -1 : ids.back());
   });
 
   cls.def("add_particles", [](System &s, int n, py::dict props) {
@@ -223,14 +241,24 @@ void bind_particles(py::class_<System> &cls) {
         ids[k] = static_cast<int>(x);
       }
     } else {
-      int next = s.particles().max_id() + 1;
+      auto const local = s.particles().ids_sorted();
+      int next = s.comm().max(local.empty() ? -1 : local.back()) + 1;
       for (int k = 0; k < n; ++k)
         ids[k] = next++;
     }
-    std::set<int> seen;
-    for (int pid : ids) {
-      if (s.particles().exists(pid) || !seen.insert(pid).second)
-        value_error("particle id " + std::to_string(pid) + " already exists");
+    {
+      std::set<int> seen;
+      std::vector<int> taken; // ids that exist on this rank
+      for (int pid : ids) {
+        if (!seen.insert(pid).second)
+          value_error("particle id " + std::to_string(pid) + " already exists");
+        if (s.particles().exists(pid))
+          taken.push_back(pid);
+      }
+      taken = s.comm().allgatherv(taken);
+      if (!taken.empty())
+        value_error("particle id " + std::to_string(*std::min_element(taken.begin(), taken.end())) +
+                    " already exists");
     }
     if (!props.contains("pos"))
       value_error("particle property 'pos' is required to add particles");
@@ -268,10 +296,13 @@ void bind_particles(py::class_<System> &cls) {
       shape.push_back(3);
     py::array_t<double> out(shape);
     double *o = out.mutable_data();
+    std::fill(o, o + n * info.width, 0.);
+    std::vector<double> found(static_cast<std::size_t>(n), 0.);
     for (py::ssize_t k = 0; k < n; ++k) {
       int const i = ps.index_of(ids[k]);
       if (i < 0)
-        throw py::index_error("particle " + std::to_string(ids[k]) + " does not exist");
+        continue; // on another rank (or nowhere: checked below)
+      found[k] = 1.;
       double *row = o + k * info.width;
       auto put = [&](Vector3d const &v) { row[0] = v[0], row[1] = v[1], row[2] = v[2]; };
       if (name == "id") row[0] = ps.id[i];
@@ -304,6 +335,13 @@ void bind_particles(py::class_<System> &cls) {
 #endif
 #endif
     }
+    if (s.comm().parallel()) { // each particle lives on one rank: the sum gathers
+      s.comm().sum_inplace(o, static_cast<int>(n * info.width));
+      s.comm().sum_inplace(found.data(), static_cast<int>(n));
+    }
+    for (py::ssize_t k = 0; k < n; ++k)
+      if (found[k] != 1.)
+        throw py::index_error("particle " + std::to_string(ids[k]) + " does not exist");
     if (is_int)
       return py::object(out.attr("astype")("int64"));
     if (is_bool)
@@ -317,21 +355,24 @@ void bind_particles(py::class_<System> &cls) {
       value_error("particle property '" + name + "' is read-only");
     auto const ids = ids_from(ids_obj);
     auto &ps = s.particles();
-    for (int pid : ids)
-      if (!ps.exists(pid))
-        throw py::index_error("particle " + std::to_string(pid) + " does not exist");
+    check_exist_globally(s, ids);
     if (name == "rotation" || name == "rinertia")
       value = normalise_isotropic(name, value);
     auto rows = as_rows(name, value, info.width, ids.size());
     // Validate all rows first: a bad value changes nothing.
     std::vector<ParticleProperties> recs(ids.size());
     for (std::size_t k = 0; k < ids.size(); ++k) {
-      recs[k] = ps.get(ids[k]);
+      if (ps.exists(ids[k]))
+        recs[k] = ps.get(ids[k]); // else: on another rank; the row is still validated
       apply(s, recs[k], name, rows.data(k, 0));
     }
     ps.clear_ghosts();
     for (std::size_t k = 0; k < ids.size(); ++k) {
       int const i = ps.index_of(ids[k]);
+      if (name == "type")
+        s.interactions().ensure_type(recs[k].type);
+      if (i < 0)
+        continue;
       auto const &p = recs[k];
       if (name == "type") {
         s.interactions().ensure_type(p.type);
@@ -363,9 +404,7 @@ void bind_particles(py::class_<System> &cls) {
   });
 
   cls.def("remove_particles", [](System &s, std::vector<int> const &ids) {
-    for (int pid : ids)
-      if (!s.particles().exists(pid))
-        throw py::index_error("particle " + std::to_string(pid) + " does not exist");
+    check_exist_globally(s, ids);
     for (int pid : ids)
       s.remove_particle(pid);
   });

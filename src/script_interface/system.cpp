@@ -30,7 +30,7 @@ void bind_system(py::class_<System> &cls) {
   cls.def_property(
       "box_l", [](System const &s) { return vec_to_array(s.box().length()); },
       [](System &s, py::object l) {
-        if (s.particles().n_local() > 0)
+        if (s.n_particles() > 0)
           value_error("box_l cannot be changed while particles exist (rescaling is not "
                       "implemented); clear the particles first");
         s.set_box_l(check_box(l));
@@ -60,10 +60,13 @@ void bind_system(py::class_<System> &cls) {
     s.ensure_lists();
     auto const &ps = s.particles();
     std::vector<std::pair<int, int>> out;
+    std::vector<std::array<int, 2>> loc;
     for (auto const &p : s.cells().pairs()) {
       int a = ps.id[p[0]], b = ps.id[p[1]];
-      out.emplace_back(std::min(a, b), std::max(a, b));
+      loc.push_back({std::min(a, b), std::max(a, b)});
     }
+    for (auto const &p : s.comm().allgatherv(loc)) // every pair is listed on one rank
+      out.emplace_back(p[0], p[1]);
     return out;
   });
 
@@ -185,9 +188,11 @@ void bind_system(py::class_<System> &cls) {
   cls.def("total_mass", &System::total_mass);
   cls.def("min_dist", &System::min_dist, "types1"_a, "types2"_a);
   cls.def("distance_vec", [](System &s, int a, int b) {
-    if (!s.particles().exists(a) || !s.particles().exists(b))
+    try {
+      return vec_to_array(s.distance_vec(a, b));
+    } catch (std::out_of_range const &) {
       throw py::index_error("particle does not exist");
-    return vec_to_array(s.distance_vec(a, b));
+    }
   });
   cls.def("compute_forces", [](System &s) { s.compute_forces(true); });
 }

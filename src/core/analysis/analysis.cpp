@@ -49,6 +49,12 @@ Energies System::energies() {
     }
   }
 #endif
+  if (m_comm.parallel()) { // every pair is on one rank: sum the parts
+    double sc[3] = {e.kinetic, e.kinetic_rot, e.non_bonded};
+    m_comm.sum_inplace(sc, 3);
+    e.kinetic = sc[0], e.kinetic_rot = sc[1], e.non_bonded = sc[2];
+    m_comm.sum_inplace(e.non_bonded_pairs.data(), static_cast<int>(e.non_bonded_pairs.size()));
+  }
   return e;
 }
 
@@ -82,6 +88,8 @@ PressureTensor System::pressure_tensor() {
       p.non_bonded[k] += vir[k] / V;
   }
 #endif
+  m_comm.sum_inplace(p.kinetic.data(), 9);
+  m_comm.sum_inplace(p.non_bonded.data(), 9);
   return p;
 }
 
@@ -89,6 +97,7 @@ Vector3d System::linear_momentum() const {
   Vector3d m{};
   for (int i = 0; i < m_ps.n_local(); ++i)
     m += m_ps.get_mass(i) * m_ps.v[i];
+  m_comm.sum_inplace(m.data(), 3);
   return m;
 }
 
@@ -99,6 +108,7 @@ Vector3d System::angular_momentum_spin() const {
     if (m_ps.rotation[i])
       l += m_ps.rinertia[i] * m_ps.omega[i];
 #endif
+  m_comm.sum_inplace(l.data(), 3);
   return l;
 }
 
@@ -106,7 +116,7 @@ double System::total_mass() const {
   double m = 0.;
   for (int i = 0; i < m_ps.n_local(); ++i)
     m += m_ps.get_mass(i);
-  return m;
+  return m_comm.sum(m);
 }
 
 Vector3d System::center_of_mass() const {
@@ -116,6 +126,7 @@ Vector3d System::center_of_mass() const {
     return c;
   for (int i = 0; i < m_ps.n_local(); ++i)
     c += m_ps.get_mass(i) * m_box.unfolded(m_ps.pos[i], m_ps.image[i]);
+  m_comm.sum_inplace(c.data(), 3);
   return c / M;
 }
 
@@ -124,14 +135,21 @@ double System::min_dist(std::vector<int> const &t1, std::vector<int> const &t2) 
     return set.empty() || std::find(set.begin(), set.end(), t) != set.end();
   };
   auto match = [&](int ta, int tb) { return (in(t1, ta) && in(t2, tb)) || (in(t1, tb) && in(t2, ta)); };
-  int const n = m_ps.n_local();
+  // every rank looks at all particles (gathered)
+  std::vector<Vector3d> pos(m_ps.pos.begin(), m_ps.pos.begin() + m_ps.n_local());
+  std::vector<int> type(m_ps.type.begin(), m_ps.type.begin() + m_ps.n_local());
+  if (m_comm.parallel()) {
+    pos = m_comm.allgatherv(pos);
+    type = m_comm.allgatherv(type);
+  }
+  int const n = static_cast<int>(pos.size());
   // O(N^2) over minimum images: exact for any distance and any box.
   double best2 = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
-      if (!match(m_ps.type[i], m_ps.type[j]))
+      if (!match(type[i], type[j]))
         continue;
-      best2 = std::min(best2, m_box.get_mi_vector(m_ps.pos[i], m_ps.pos[j]).norm2());
+      best2 = std::min(best2, m_box.get_mi_vector(pos[i], pos[j]).norm2());
     }
   return std::sqrt(best2);
 }

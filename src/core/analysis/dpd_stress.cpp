@@ -48,6 +48,8 @@ DPDStress System::dpd_stress() {
         out.noise[3 * x + y] += d[x] * f_noise[y] / V;
       }
   }
+  m_comm.sum_inplace(out.friction.data(), 9);
+  m_comm.sum_inplace(out.noise.data(), 9);
 #endif
   return out;
 }

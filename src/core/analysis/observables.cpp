@@ -9,17 +9,27 @@ namespace Marble::Observables {
 
 namespace {
 
+// Number of ranks holding each id (0 or 1; collective).
+std::vector<double> found_on_ranks(System const &system, std::vector<int> const &ids) {
+  std::vector<double> found(ids.size(), 0.);
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    found[k] = (ids[k] >= 0 && system.particles().exists(ids[k])) ? 1. : 0.;
+  system.comm().sum_inplace(found.data(), static_cast<int>(found.size()));
+  return found;
+}
+
 void check_ids(System const &system, std::vector<int> const &ids) {
   if (ids.empty())
     throw std::invalid_argument("parameter 'ids' must name at least one particle");
-  for (int pid : ids) {
+  for (int pid : ids)
     if (pid < 0)
       throw std::invalid_argument("parameter 'ids': particle ids are >= 0, got " +
                                   std::to_string(pid));
-    if (!system.particles().exists(pid))
-      throw std::out_of_range("parameter 'ids': particle " + std::to_string(pid) +
+  auto const found = found_on_ranks(system, ids);
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (found[k] != 1.)
+      throw std::out_of_range("parameter 'ids': particle " + std::to_string(ids[k]) +
                               " does not exist");
-  }
 }
 
 int index_checked(System const &system, int pid) {
@@ -43,14 +53,26 @@ std::vector<int> PidObservable::indices(System const &system) const {
   return idx;
 }
 
+// Each rank fills the rows of its particles (zeros elsewhere), then a sum
+// over the ranks; the extra last entries count where each id was found.
 std::vector<double> PidObservable::operator()(System const &system) const {
-  auto const idx = indices(system);
-  std::vector<double> out(3 * idx.size());
-  for (std::size_t k = 0; k < idx.size(); ++k) {
-    auto const r = row(system, idx[k]);
+  std::size_t const n = m_ids.size();
+  std::vector<double> out(4 * n, 0.);
+  for (std::size_t k = 0; k < n; ++k) {
+    int const i = system.particles().index_of(m_ids[k]);
+    if (i < 0)
+      continue;
+    auto const r = row(system, i);
     for (int d = 0; d < 3; ++d)
       out[3 * k + d] = r[d];
+    out[3 * n + k] = 1.;
   }
+  system.comm().sum_inplace(out.data(), static_cast<int>(out.size()));
+  for (std::size_t k = 0; k < n; ++k)
+    if (out[3 * n + k] != 1.)
+      throw std::out_of_range("observable: particle " + std::to_string(m_ids[k]) +
+                              " does not exist (removed after the observable was created?)");
+  out.resize(3 * n);
   return out;
 }
 
@@ -85,15 +107,22 @@ ComVelocity::ComVelocity(System const &system, std::vector<int> ids) : m_ids(std
 
 std::vector<double> ComVelocity::operator()(System const &system) const {
   auto const &ps = system.particles();
-  Utils::Vector3d p{};
-  double m = 0.;
+  double acc[5] = {0., 0., 0., 0., 0.}; // p, m, number found
   for (int pid : m_ids) {
-    int const i = index_checked(system, pid);
+    int const i = ps.index_of(pid);
+    if (i < 0)
+      continue;
     double const mi = ps.get_mass(i);
-    p += mi * ps.v[i];
-    m += mi;
+    for (int d = 0; d < 3; ++d)
+      acc[d] += mi * ps.v[i][d];
+    acc[3] += mi;
+    acc[4] += 1.;
   }
-  return {p[0] / m, p[1] / m, p[2] / m};
+  system.comm().sum_inplace(acc, 5);
+  if (acc[4] != static_cast<double>(m_ids.size()))
+    throw std::out_of_range("observable: a particle of ComVelocity does not exist (removed "
+                            "after the observable was created?)");
+  return {acc[0] / acc[3], acc[1] / acc[3], acc[2] / acc[3]};
 }
 
 } // namespace Marble::Observables

@@ -63,6 +63,9 @@ std::vector<SceneWarning> check_scene(System &sys) {
       count[ps.type[i]] += 1.;
       m_min[ps.type[i]] = std::min(m_min[ps.type[i]], ps.get_mass(i));
     }
+  sys.comm().sum_inplace(count.data(), nt);
+  for (int a = 0; a < nt; ++a)
+    m_min[a] = sys.comm().min(m_min[a]);
 #ifdef DPD
   auto const &th = sys.thermostat().dpd;
   bool const dpd_on = th.active;
@@ -90,6 +93,7 @@ std::vector<SceneWarning> check_scene(System &sys) {
   double V_free = V;
 #ifdef MARBLE
   auto const &col = sys.colloids();
+  double V_col = 0.;
   for (int i = 0; i < ps.n_local(); ++i) {
     int const c = ps.type[i];
     if (!col.is_colloid_type(c))
@@ -97,8 +101,9 @@ std::vector<SceneWarning> check_scene(System &sys) {
     double R = 0.;
     for (int s = 0; s < nt; ++s)
       R = std::max(R, col.get(c, s).radius);
-    V_free -= 4. / 3. * M_PI * R * R * R;
+    V_col += 4. / 3. * M_PI * R * R * R;
   }
+  V_free -= sys.comm().sum(V_col);
 #endif
   // 1. time step vs the measured 1 % kT error of the integrator
   if (dpd_on && any_dpd && dt > 0.) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -27,13 +29,129 @@ bool shift_positive(Vector3d const &s) {
 
 // Cells are at least `range` wide, so all partners of a local are in the 27
 // cells around it.
-CellSystem::Grid::Grid(BoxGeometry const &box, double range) {
+CellSystem::Grid::Grid(Vector3d const &lo_, Vector3d const &len, double range) {
+  lo = lo_;
   for (int d = 0; d < 3; ++d) {
-    n[d] = range > 0. ? std::max(1, static_cast<int>(box.length()[d] / range)) : 1;
+    n[d] = range > 0. ? std::max(1, static_cast<int>(len[d] / range)) : 1;
     n[d] = std::min(n[d], 256); // bounded memory for tiny cutoffs
-    size[d] = box.length()[d] / n[d];
+    size[d] = len[d] / n[d];
     ext[d] = n[d] + 2;
   }
+}
+
+std::array<int, 3> CellSystem::node_grid(BoxGeometry const &box) const {
+  int const n = m_comm ? m_comm->size() : 1;
+  auto const &L = box.length();
+  std::array<int, 3> best{n, 1, 1};
+  double best_cost = std::numeric_limits<double>::infinity();
+  // the factorisation with the smallest domain surface; ties: split x first
+  for (int px = n; px >= 1; --px) {
+    if (n % px)
+      continue;
+    for (int py = n / px; py >= 1; --py) {
+      if ((n / px) % py)
+        continue;
+      int const pz = n / px / py;
+      double const a = L[0] / px, b = L[1] / py, c = L[2] / pz;
+      double const cost = a * b + b * c + a * c;
+      if (cost < best_cost * (1. - 1e-12)) {
+        best_cost = cost;
+        best = {px, py, pz};
+      }
+    }
+  }
+  return best;
+}
+
+namespace {
+int rank_of(std::array<int, 3> const &g, std::array<int, 3> const &c) {
+  return (c[0] * g[1] + c[1]) * g[2] + c[2];
+}
+std::array<int, 3> coords_of(std::array<int, 3> const &g, int rank) {
+  return {rank / (g[1] * g[2]), (rank / g[2]) % g[1], rank % g[2]};
+}
+int axis_coord(double x, double dl, int p) {
+  double const c = std::floor(x / dl);
+  return static_cast<int>(std::clamp(c, 0., static_cast<double>(p - 1)));
+}
+} // namespace
+
+int CellSystem::owner_rank(Vector3d const &pos, BoxGeometry const &box) const {
+  if (!parallel())
+    return 0;
+  auto const g = node_grid(box);
+  std::array<int, 3> c{};
+  for (int d = 0; d < 3; ++d)
+    c[d] = axis_coord(pos[d], box.length()[d] / g[d], g[d]);
+  return rank_of(g, c);
+}
+
+std::pair<Vector3d, Vector3d> CellSystem::local_domain(BoxGeometry const &box) const {
+  auto const &L = box.length();
+  if (!parallel())
+    return {Vector3d{0., 0., 0.}, L};
+  auto const g = node_grid(box);
+  auto const c = coords_of(g, m_comm->rank());
+  Vector3d lo, len;
+  for (int d = 0; d < 3; ++d) {
+    len[d] = L[d] / g[d];
+    lo[d] = c[d] * len[d];
+  }
+  return {lo, len};
+}
+
+namespace {
+struct MigrationRecord {
+  ParticleProperties p;
+  Vector3d f, torque;
+};
+static_assert(std::is_trivially_copyable_v<MigrationRecord>);
+static_assert(std::is_trivially_copyable_v<GhostRecord>);
+struct GhostUpdate {
+  Vector3d pos, v, omega;
+};
+struct GhostForce {
+  Vector3d f, torque;
+};
+} // namespace
+
+// Send every local whose folded position lies in another rank's domain to
+// that rank (with its force and torque of the last step, which the next half
+// kick uses).
+void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
+  int const size = m_comm->size(), me = m_comm->rank();
+  auto const g = node_grid(box);
+  auto const &L = box.length();
+  std::vector<std::vector<MigrationRecord>> send(size);
+  std::vector<int> leaving;
+  for (int i = 0; i < ps.n_local(); ++i) {
+    std::array<int, 3> c{};
+    for (int d = 0; d < 3; ++d)
+      c[d] = axis_coord(ps.pos[i][d], L[d] / g[d], g[d]);
+    int const r = rank_of(g, c);
+    if (r == me)
+      continue;
+    MigrationRecord rec;
+    rec.p = ps.get(ps.id[i]);
+    rec.f = ps.f[i];
+#ifdef ROTATION
+    rec.torque = ps.torque[i];
+#endif
+    send[r].push_back(rec);
+    leaving.push_back(ps.id[i]);
+  }
+  for (int pid : leaving)
+    ps.remove(pid);
+  auto const recv = m_comm->alltoallv(send);
+  for (auto const &from : recv)
+    for (auto const &rec : from) {
+      ps.add(rec.p);
+      int const i = ps.n_local() - 1;
+      ps.f[i] = rec.f;
+#ifdef ROTATION
+      ps.torque[i] = rec.torque;
+#endif
+    }
 }
 
 void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
@@ -42,10 +160,11 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
     box.fold(ps.pos[i], ps.image[i]);
   if (m_range <= 0.)
     return;
-  Grid const g(box, m_range);
+  auto const dom = local_domain(box);
+  Grid const g(dom.first, dom.second, m_range);
   std::vector<int> cell(n), count(g.n_total() + 1, 0);
   for (int i = 0; i < n; ++i) {
-    cell[i] = g.index(ps.pos[i]);
+    cell[i] = g.local_index(ps.pos[i]);
     ++count[cell[i] + 1];
   }
   for (int c = 0; c < g.n_total(); ++c)
@@ -60,35 +179,93 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
     ps.permute_locals(order);
 }
 
-void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) const {
+void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   ps.clear_ghosts();
+  int const size = m_comm ? m_comm->size() : 1, me = m_comm ? m_comm->rank() : 0;
+  m_send.assign(static_cast<std::size_t>(size), {});
+  m_recv_begin.assign(static_cast<std::size_t>(size), ps.n_local());
+  m_recv_count.assign(static_cast<std::size_t>(size), 0);
   if (m_range <= 0.)
     return;
+  bool const par = size > 1;
   int const n = ps.n_local();
+  auto const &L = box.length();
+  auto const g = node_grid(box);
   std::array<int, 3> nimg{};
   for (int d = 0; d < 3; ++d)
-    nimg[d] = box.periodic(d) ? static_cast<int>(std::ceil(m_range / box.length()[d])) : 0;
-  auto const &L = box.length();
-  // Only images with a positive shift: the pair list never uses the others
-  // (build_pairs keeps the local-ghost pair whose ghost shift is positive), so
-  // creating them would only cost ghost updates and force reductions.
+    nimg[d] = box.periodic(d) ? static_cast<int>(std::ceil(m_range / L[d])) : 0;
+  // One rank: only images with a positive shift (build_pairs keeps the
+  // local-ghost pair whose ghost shift is positive, so the others would only
+  // cost ghost updates and force reductions). Several ranks: every shift, since
+  // other ranks need the images on all sides.
   std::vector<Vector3d> shifts;
   for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
     for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
       for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
         Vector3d const sh{sx * L[0], sy * L[1], sz * L[2]};
-        if (shift_positive(sh))
+        if (par || shift_positive(sh))
           shifts.push_back(sh);
       }
+  Vector3d dl;
+  for (int d = 0; d < 3; ++d)
+    dl[d] = L[d] / g[d];
+  double const r = m_range;
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
+    if (replicated(ps.type[i])) {
+      // colloids: a copy on every other rank; their pairs are found by
+      // Colloids (own periodic images included), never through ghosts
+      for (int q = 0; q < size; ++q)
+        if (q != me)
+          m_send[q].push_back({i, Vector3d{0., 0., 0.}});
+      continue;
+    }
     for (auto const &sh : shifts) {
       Vector3d const q = p + sh;
-      if (q[0] < -m_range || q[0] >= L[0] + m_range || q[1] < -m_range || q[1] >= L[1] + m_range ||
-          q[2] < -m_range || q[2] >= L[2] + m_range)
+      // node-grid coordinates whose domain, grown by the range, holds q
+      std::array<int, 3> lo{}, hi{};
+      bool none = false;
+      for (int d = 0; d < 3; ++d) {
+        int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
+        int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
+        if (!box.periodic(d)) { // the outer domains extend to infinity
+          a = std::clamp(a, 0, g[d] - 1);
+          b = std::clamp(b, 0, g[d] - 1);
+        }
+        lo[d] = std::max(a, 0);
+        hi[d] = std::min(b, g[d] - 1);
+        none |= lo[d] > hi[d];
+      }
+      if (none)
         continue;
-      ps.add_ghost(i, sh);
+      bool const own_image = shift_positive(sh);
+      for (int cx = lo[0]; cx <= hi[0]; ++cx)
+        for (int cy = lo[1]; cy <= hi[1]; ++cy)
+          for (int cz = lo[2]; cz <= hi[2]; ++cz) {
+            int const dest = rank_of(g, {cx, cy, cz});
+            if (dest == me) {
+              if (own_image)
+                ps.add_ghost(i, sh);
+            } else {
+              m_send[dest].push_back({i, sh});
+            }
+          }
     }
+  }
+  if (!par)
+    return;
+  std::vector<std::vector<GhostRecord>> send(size);
+  for (int q = 0; q < size; ++q) {
+    send[q].reserve(m_send[q].size());
+    for (auto const &e : m_send[q])
+      send[q].push_back(ps.ghost_record(e.index, e.shift));
+  }
+  auto const recv = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q) {
+    m_recv_begin[q] = ps.size();
+    m_recv_count[q] = static_cast<int>(recv[q].size());
+    for (auto const &rec : recv[q])
+      ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
   }
 }
 
@@ -105,7 +282,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   m_cell_members.clear();
   if (m_range <= 0.)
     return;
-  m_grid = Grid(box, m_range);
+  auto const dom = local_domain(box);
+  m_grid = Grid(dom.first, dom.second, m_range);
   Grid const &g = m_grid;
   m_n_cells = g.n;
   int const n_all = ps.size(), n_local = ps.n_local();
@@ -117,7 +295,7 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   start.assign(n_cells + 1, 0);
   members.resize(n_all);
   for (int i = 0; i < n_all; ++i) {
-    cell[i] = g.index(ps.pos[i]);
+    cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
     ++start[cell[i] + 1];
   }
   for (int c = 0; c < n_cells; ++c)
@@ -215,11 +393,27 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     i_begin = i_end;
   }
   m_pairs.resize(n_pairs);
+  if (parallel()) {
+    // a pair with another rank's particle is computed by the rank owning the smaller id
+    auto const *const owner = ps.ghost_owner.data();
+    m_pairs.erase(std::remove_if(m_pairs.begin(), m_pairs.end(),
+                                 [&](std::array<int, 2> const &pr) {
+                                   int const j = pr[1];
+                                   return j >= n_local && owner[j - n_local] < 0 &&
+                                          ps.id[pr[0]] > ps.id[j];
+                                 }),
+                  m_pairs.end());
+  }
 }
 
 void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut) {
   ps.clear_ghosts();
   m_range = max_cut > 0. ? max_cut + m_skin : 0.;
+  if (parallel()) {
+    for (int i = 0; i < ps.n_local(); ++i)
+      box.fold(ps.pos[i], ps.image[i]);
+    migrate(ps, box);
+  }
   sort_locals(ps, box);
   for (int i = 0; i < ps.n_local(); ++i)
     ps.pos_at_rebuild[i] = ps.pos[i];
@@ -233,31 +427,88 @@ void CellSystem::update_ghosts(ParticleStore &ps) const {
   int const n_local = ps.n_local();
   for (int g = n_local; g < ps.size(); ++g) {
     int const o = ps.ghost_owner[g - n_local];
+    if (o < 0)
+      break; // other ranks' particles follow the own images
     ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - n_local];
     ps.v[g] = ps.v[o];
 #ifdef ROTATION
     ps.omega[g] = ps.omega[o];
 #endif
   }
+  if (!parallel())
+    return;
+  int const size = m_comm->size();
+  std::vector<std::vector<GhostUpdate>> send(size);
+  for (int q = 0; q < size; ++q) {
+    send[q].resize(m_send[q].size());
+    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
+      int const i = m_send[q][k].index;
+      auto &u = send[q][k];
+      u.pos = ps.pos[i] + m_send[q][k].shift;
+      u.v = ps.v[i];
+#ifdef ROTATION
+      u.omega = ps.omega[i];
+#endif
+    }
+  }
+  auto const recv = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      int const g = m_recv_begin[q] + k;
+      auto const &u = recv[q][static_cast<std::size_t>(k)];
+      ps.pos[g] = u.pos;
+      ps.v[g] = u.v;
+#ifdef ROTATION
+      ps.omega[g] = u.omega;
+#endif
+    }
 }
 
 void CellSystem::reduce_ghost_forces(ParticleStore &ps) const {
   int const n_local = ps.n_local();
   for (int g = n_local; g < ps.size(); ++g) {
     int const o = ps.ghost_owner[g - n_local];
+    if (o < 0)
+      break;
     ps.f[o] += ps.f[g];
 #ifdef ROTATION
     ps.torque[o] += ps.torque[g];
 #endif
   }
+  if (!parallel())
+    return;
+  int const size = m_comm->size();
+  std::vector<std::vector<GhostForce>> send(size);
+  for (int q = 0; q < size; ++q) {
+    send[q].resize(static_cast<std::size_t>(m_recv_count[q]));
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      int const g = m_recv_begin[q] + k;
+      send[q][k].f = ps.f[g];
+#ifdef ROTATION
+      send[q][k].torque = ps.torque[g];
+#endif
+    }
+  }
+  auto const back = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
+      int const i = m_send[q][k].index;
+      ps.f[i] += back[q][k].f;
+#ifdef ROTATION
+      ps.torque[i] += back[q][k].torque;
+#endif
+    }
 }
 
 bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {
   double const lim2 = 0.25 * m_skin * m_skin;
+  bool exceeded = false;
   for (int i = 0; i < ps.n_local(); ++i)
-    if ((ps.pos[i] - ps.pos_at_rebuild[i]).norm2() > lim2)
-      return true;
-  return false;
+    if ((ps.pos[i] - ps.pos_at_rebuild[i]).norm2() > lim2) {
+      exceeded = true;
+      break;
+    }
+  return m_comm ? m_comm->any(exceeded) : exceeded;
 }
 
 } // namespace Marble

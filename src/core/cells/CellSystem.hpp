@@ -1,5 +1,7 @@
 #pragma once
-// Cell grid + Verlet lists with a skin and a ghost layer.
+// Cell grid + Verlet lists with a skin and a ghost layer, over this rank's
+// domain (regular domain decomposition: the box is cut into a node grid of
+// px x py x pz equal boxes, one per MPI rank; one rank owns the whole box).
 //
 // On rebuild: locals are folded into the box and sorted by cell; every local
 // whose periodic image lies within `range` = max_cut + skin of the box gets a
@@ -7,11 +9,22 @@
 //   local-local pairs with i < j, and local-ghost pairs whose ghost shift is
 //   lexicographically positive (the image with the opposite shift is dropped).
 // Between rebuilds only the ghosts' positions/velocities are refreshed.
+//
+// With several ranks, a rebuild first migrates every particle to the rank
+// whose domain holds its folded position, then each rank receives copies of
+// the other ranks' particles within `range` of its domain (all sides), and
+// large particles (colloids) of every other rank whatever their distance.
+// A pair of a local and another rank's particle is kept on the rank that
+// owns the smaller id, so every pair is computed once; the force on such a
+// ghost (and the force/torque on a colloid copy) is sent back to its owner
+// by reduce_ghost_forces(). docs: doc/parallel.md.
 #include "box/BoxGeometry.hpp"
+#include "comm/Communicator.hpp"
 #include "particles/ParticleStore.hpp"
 
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cmath>
 #include <vector>
 
@@ -28,14 +41,29 @@ public:
   bool valid() const { return m_valid; }
   void invalidate() { m_valid = false; }
 
-  /** Fold, sort, make ghosts, build the pair list for pair range @p max_cut. */
+  /** Fold, migrate, sort, make ghosts, build the pair list for pair range
+   * @p max_cut. Collective. */
   void rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut);
-  /** Copy positions (+ shift), velocities and omega from owners to ghosts. */
+  /** Copy positions (+ shift), velocities and omega from owners to ghosts. Collective. */
   void update_ghosts(ParticleStore &ps) const;
-  /** Add ghost forces (and torques) to their owners. */
+  /** Add ghost forces (and torques) to their owners. Collective. */
   void reduce_ghost_forces(ParticleStore &ps) const;
-  /** True if some local moved more than skin/2 since the last rebuild. */
+  /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
+
+  // --- domain decomposition ---
+  void set_comm(Communicator const *comm) { m_comm = comm; }
+  /** Types whose particles every rank gets a copy of (colloids). */
+  void set_replicated_types(std::vector<char> const &t) {
+    m_replicated = t;
+    m_valid = false;
+  }
+  /** Ranks per axis: the most cubic factorisation of the rank count for @p box. */
+  std::array<int, 3> node_grid(BoxGeometry const &box) const;
+  /** Rank owning the (folded) position @p pos. */
+  int owner_rank(Utils::Vector3d const &pos, BoxGeometry const &box) const;
+  /** Lower corner and size of this rank's domain. */
+  std::pair<Utils::Vector3d, Utils::Vector3d> local_domain(BoxGeometry const &box) const;
 
   std::vector<std::array<int, 2>> const &pairs() const { return m_pairs; }
 
@@ -65,15 +93,23 @@ public:
         }
   }
 
-  /** Regular grid over the box plus one layer of ghost cells on each side. */
+  /** Regular grid over the domain plus one layer of ghost cells on each side. */
   struct Grid {
     std::array<int, 3> n{1, 1, 1}, ext{3, 3, 3};
-    Utils::Vector3d size{1., 1., 1.};
+    Utils::Vector3d size{1., 1., 1.}, lo{0., 0., 0.};
     Grid() = default;
-    Grid(BoxGeometry const &box, double range);
+    Grid(Utils::Vector3d const &lo, Utils::Vector3d const &len, double range);
     int coord(double x, int d) const {
-      double const c = std::floor(x / size[d]) + 1.;
+      double const c = std::floor((x - lo[d]) / size[d]) + 1.;
       return static_cast<int>(std::clamp(c, 0., static_cast<double>(ext[d] - 1)));
+    }
+    /** Cell of a local: clamped into the domain's own cells (round-off at the
+     * domain faces must not put a local into the ghost layer). */
+    int local_index(Utils::Vector3d const &p) const {
+      int c[3];
+      for (int d = 0; d < 3; ++d)
+        c[d] = std::clamp(coord(p[d], d), 1, n[d]);
+      return (c[2] * ext[1] + c[1]) * ext[0] + c[0];
     }
     int index(Utils::Vector3d const &p) const {
       return (coord(p[2], 2) * ext[1] + coord(p[1], 1)) * ext[0] + coord(p[0], 0);
@@ -84,7 +120,16 @@ public:
   long n_rebuilds() const { return m_n_rebuilds; }
 
 private:
-  void make_ghosts(ParticleStore &ps, BoxGeometry const &box) const;
+  struct SendEntry {
+    int index;
+    Utils::Vector3d shift;
+  };
+  void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
+  void migrate(ParticleStore &ps, BoxGeometry const &box) const;
+  bool replicated(int type) const {
+    return type >= 0 && type < static_cast<int>(m_replicated.size()) && m_replicated[type];
+  }
+  bool parallel() const { return m_comm && m_comm->parallel(); }
   void sort_locals(ParticleStore &ps, BoxGeometry const &box);
   void build_pairs(ParticleStore const &ps, BoxGeometry const &box);
 
@@ -97,6 +142,12 @@ private:
   Grid m_grid;
   std::vector<int> m_cell_start, m_cell_members; // all particles (locals + ghosts) by cell
   int m_n_local_at_build = 0;
+  Communicator const *m_comm = nullptr;
+  std::vector<char> m_replicated;
+  // ghosts of this rank's particles on other ranks: m_send[r] (list order =
+  // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
+  std::vector<std::vector<SendEntry>> m_send;
+  std::vector<int> m_recv_begin, m_recv_count;
 };
 
 } // namespace Marble

@@ -187,19 +187,22 @@ void System::compute_forces(bool with_thermostat) {
 }
 
 void System::check_forces_finite() const {
+  std::string msg;
   for (int i = 0; i < m_ps.n_local(); ++i) {
     bool bad = !Utils::isfinite(m_ps.f[i]);
 #ifdef ROTATION
     bad = bad || !Utils::isfinite(m_ps.torque[i]);
 #endif
-    if (bad)
-      throw Utils::RuntimeError(
-          "non-finite force on particle " + std::to_string(m_ps.id[i]) + " at step " +
-          std::to_string(m_step) +
-          ": likely cause: overlapping particles (a singular potential at r -> 0) or a "
-          "time step too large for the interactions; remove overlaps with "
-          "integrator.set_steepest_descent() or reduce time_step");
+    if (bad) {
+      msg = "non-finite force on particle " + std::to_string(m_ps.id[i]) + " at step " +
+            std::to_string(m_step) +
+            ": likely cause: overlapping particles (a singular potential at r -> 0) or a "
+            "time step too large for the interactions; remove overlaps with "
+            "integrator.set_steepest_descent() or reduce time_step";
+      break;
+    }
   }
+  m_comm.throw_if_any(msg); // on every rank, so none waits in a collective call
 }
 
 } // namespace Marble

@@ -39,40 +39,41 @@ void System::kick(double half_dt) {
 }
 
 // Half kick + drift, refusing a step that moves a particle farther than the
-// skin or makes it non-finite: the particles are then put back as they were.
+// skin or makes it non-finite: the step is checked first (on every rank) and
+// then done, so a refused step changes nothing.
 void System::drift_checked() {
   double const dt = m_time_step;
   double const max2 = m_cells.skin() * m_cells.skin();
   int const n = m_ps.n_local();
-  for (int i = 0; i < n; ++i) {
+  auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
     double const a = 0.5 * dt / m_ps.get_mass(i);
-    Vector3d dv, dx;
     for (int d = 0; d < 3; ++d) {
       bool const fx = fixed(m_ps, i, d);
       dv[d] = fx ? -m_ps.v[i][d] : a * m_ps.f[i][d];
       dx[d] = fx ? 0. : dt * (m_ps.v[i][d] + dv[d]);
     }
+  };
+  int bad = -1;
+  double bad_disp2 = 0.;
+  for (int i = 0; i < n; ++i) {
+    Vector3d dv, dx;
+    step_of(i, dv, dx);
     double const disp2 = dx.norm2();
     if (!(disp2 <= max2)) { // also catches NaN
-      // undo the particles already moved
-      for (int k = 0; k < i; ++k) {
-        // recompute what was applied to particle k and revert it
-        double const ak = 0.5 * dt / m_ps.get_mass(k);
-        Vector3d vnew = m_ps.v[k];
-        m_ps.pos[k] -= dt * vnew;
-        for (int d = 0; d < 3; ++d)
-          if (!fixed(m_ps, k, d))
-            m_ps.v[k][d] -= ak * m_ps.f[k][d];
-#ifdef ROTATION
-        if (m_ps.rotation[k])
-          m_ps.omega[k] -= (0.5 * dt / m_ps.rinertia[k]) * m_ps.torque[k];
-#endif
-      }
-      m_forces_valid = false;
-      m_cells.invalidate();
-      // the friction limits (integrators/stability.cpp) name a likelier cause
-      std::string where;
-      double const frac = limit_fraction(*this, where);
+      bad = i;
+      bad_disp2 = disp2;
+      break;
+    }
+  }
+  if (m_comm.any(bad >= 0)) {
+    m_forces_valid = false;
+    m_cells.invalidate();
+    // the friction limits (integrators/stability.cpp) name a likelier cause
+    std::string where;
+    double const frac = limit_fraction(*this, where); // collective
+    std::string msg;
+    if (bad >= 0) {
+      double const disp2 = bad_disp2;
       std::string const friction =
           frac > 0.3 ? " (explicit friction at " + Utils::to_str(frac) +
                            " x its stability limit: " + where + ")"
@@ -89,9 +90,14 @@ void System::drift_checked() {
               : "got a non-finite velocity or position: likely cause: time step too large" +
                     friction + " or a non-finite force/velocity set by the user; reduce time_step "
                     "(suggested <= " + Utils::to_str(dt_sugg) + ")";
-      throw Utils::RuntimeError("integration stopped at step " + std::to_string(m_step + 1) +
-                                ": particle " + std::to_string(m_ps.id[i]) + " " + what);
+      msg = "integration stopped at step " + std::to_string(m_step + 1) + ": particle " +
+            std::to_string(m_ps.id[bad]) + " " + what;
     }
+    m_comm.throw_if_any(msg);
+  }
+  for (int i = 0; i < n; ++i) {
+    Vector3d dv, dx;
+    step_of(i, dv, dx);
     m_ps.v[i] += dv;
     m_ps.pos[i] += dx;
 #ifdef ROTATION
@@ -179,6 +185,7 @@ int System::run_sd(int n_steps) {
           f[d] = 0.;
       fmax2 = std::max(fmax2, f.norm2());
     }
+    fmax2 = m_comm.max(fmax2);
     if (fmax2 < p.f_max * p.f_max)
       break;
     for (int i = 0; i < m_ps.n_local(); ++i)

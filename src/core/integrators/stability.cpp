@@ -4,6 +4,7 @@
 // temperature is already far off before. For the many-body DPD friction the
 // largest eigenvalue of the friction matrix exceeds the mean rate: the limit
 // of the mean-field estimate below was measured (kNuDpd).
+#include <climits>
 #include "integrators/stability.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
@@ -53,6 +54,19 @@ struct TypeStats {
     if (ps.rotation[i])
       t.rinertia_min[a] = std::min(t.rinertia_min[a], ps.rinertia[i]);
 #endif
+  }
+  // over all ranks
+  auto const &comm = sys.comm();
+  if (comm.parallel()) {
+    comm.sum_inplace(t.count.data(), nt);
+    for (int a = 0; a < nt; ++a) {
+      double const m_loc = t.m_min[a];
+      t.m_min[a] = comm.min(m_loc);
+      t.rinertia_min[a] = comm.min(t.rinertia_min[a]);
+      int const cand = (t.lightest[a] >= 0 && m_loc == t.m_min[a]) ? t.lightest[a] : INT_MAX;
+      int const best = comm.min(cand);
+      t.lightest[a] = best == INT_MAX ? -1 : best;
+    }
   }
   return t;
 }

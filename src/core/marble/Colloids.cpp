@@ -64,7 +64,12 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
   int const nt = ia.n_types();
   double const skin = cells.skin();
   auto const &L = box.length();
-  for (int c = 0; c < n_local; ++c) {
+  // the colloids: locals, and copies of other ranks' colloids (their pairs
+  // with this rank's locals are found here; the force on the copy goes back
+  // to the owner with the ghost forces)
+  for (int c = 0; c < ps.size(); ++c) {
+    if (c >= n_local && ps.ghost_owner[c - n_local] != kRemoteColloidGhost)
+      continue;
     int const tc = ps.type[c];
     if (!is_colloid_type(tc))
       continue;

@@ -146,6 +146,40 @@ void ParticleStore::add_ghost(int owner, Utils::Vector3d const &shift) {
   ghost_shift.push_back(shift);
 }
 
+void ParticleStore::add_remote_ghost(GhostRecord const &r, int marker) {
+  id.push_back(r.id);
+  type.push_back(r.type);
+  pos.push_back(r.pos);
+  v.push_back(r.v);
+  f.push_back({});
+#ifdef MASS
+  mass.push_back(r.mass);
+#endif
+#ifdef ROTATION
+  omega.push_back(r.omega);
+  torque.push_back({});
+  rinertia.push_back(r.rinertia);
+  rotation.push_back(r.rotation);
+#endif
+  ghost_owner.push_back(marker);
+  ghost_shift.push_back({});
+}
+
+GhostRecord ParticleStore::ghost_record(int i, Utils::Vector3d const &shift) const {
+  GhostRecord r;
+  r.id = id[i];
+  r.type = type[i];
+  r.pos = pos[i] + shift;
+  r.v = v[i];
+  r.mass = get_mass(i);
+#ifdef ROTATION
+  r.omega = omega[i];
+  r.rinertia = rinertia[i];
+  r.rotation = rotation[i];
+#endif
+  return r;
+}
+
 void ParticleStore::permute_locals(std::vector<int> const &order) {
   assert(n_ghost() == 0 && static_cast<int>(order.size()) == m_n_local);
   auto apply = [&order](auto &arr) {

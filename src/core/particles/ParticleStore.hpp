@@ -27,6 +27,18 @@ struct ParticleProperties {
   std::uint8_t fix = 0; // bit d set: coordinate d is fixed
 };
 
+/** A copy of another rank's particle, sent at a rebuild (cells/CellSystem.cpp). */
+struct GhostRecord {
+  int id = -1, type = 0;
+  Utils::Vector3d pos{}, v{}, omega{};
+  double mass = 1., rinertia = 1.;
+  std::uint8_t rotation = 0;
+};
+
+/** Ghost owner markers for copies of other ranks' particles. */
+constexpr int kRemoteGhost = -1;         // ordinary particle of another rank
+constexpr int kRemoteColloidGhost = -2;  // large particle (colloid) of another rank
+
 class ParticleStore {
 public:
   // Per-particle data (locals and ghosts).
@@ -84,6 +96,10 @@ public:
   void clear_ghosts();
   /** Append a ghost image of local @p owner shifted by @p shift. */
   void add_ghost(int owner, Utils::Vector3d const &shift);
+  /** Append a copy of another rank's particle (owner marker kRemoteGhost or kRemoteColloidGhost). */
+  void add_remote_ghost(GhostRecord const &r, int marker);
+  /** The record another rank needs to make a ghost of local @p i at +@p shift. */
+  GhostRecord ghost_record(int i, Utils::Vector3d const &shift) const;
   /** Reorder locals by @p order (new position k holds old order[k]). */
   void permute_locals(std::vector<int> const &order);
 

@@ -2,10 +2,14 @@
 #include "utils/errors.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace Marble {
 
-System::System(Utils::Vector3d const &box_l) { set_box_l(box_l); }
+System::System(Utils::Vector3d const &box_l) {
+  m_cells.set_comm(&m_comm);
+  set_box_l(box_l);
+}
 
 void System::set_box_l(Utils::Vector3d const &l) {
   m_box.set_length(l);
@@ -27,18 +31,22 @@ void System::add_particle(ParticleProperties p) {
   m_ps.clear_ghosts();
   m_box.fold(p.pos, p.image);
   m_ia.ensure_type(p.type);
-  m_ps.add(p);
+  // every rank is told about every particle; the one whose domain holds it keeps it
+  if (m_cells.owner_rank(p.pos, m_box) == m_comm.rank())
+    m_ps.add(p);
   on_particle_change();
 }
 
 void System::remove_particle(int pid) {
   m_ps.clear_ghosts();
-  m_ps.remove(pid);
+  if (m_ps.exists(pid))
+    m_ps.remove(pid);
   on_particle_change();
 }
 
 void System::clear_particles() {
   m_ps.clear();
+  m_cells.invalidate();
   on_particle_change();
 }
 
@@ -78,6 +86,9 @@ void System::refresh_large_types() {
     large[t] = large[t] || col[t];
 #endif
   m_ia.set_large_types(large);
+#ifdef MARBLE
+  m_cells.set_replicated_types(m_colloids.colloid_types());
+#endif
 }
 
 void System::on_constraints_change() {
@@ -125,11 +136,19 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 }
 
 void System::check_scene_before_run() const {
+  std::string msg;
 #ifdef MARBLE
-  auto const msg = m_colloids.check_rotation(m_ps);
+  msg = m_colloids.check_rotation(m_ps);
   if (!msg.empty())
-    throw Utils::RuntimeError("cannot integrate: " + msg);
+    msg = "cannot integrate: " + msg;
 #endif
+  m_comm.throw_if_any(msg);
+  if (m_comm.parallel() &&
+      (m_integrator == IntegratorKind::Shardlow || m_integrator == IntegratorKind::DPDVV))
+    throw Utils::RuntimeError(
+        "cannot integrate: the Shardlow and DPD-VV integrators run on one MPI rank only "
+        "(this run has " + std::to_string(m_comm.size()) +
+        "); use integrator.set_vv() or run without mpiexec");
 }
 
 void System::ensure_lists() {
@@ -168,8 +187,26 @@ void System::rebuild_lists_at_saved_positions() {
 }
 
 Utils::Vector3d System::distance_vec(int pid1, int pid2) const {
-  int const i = m_ps.index_of(pid1), j = m_ps.index_of(pid2);
-  return m_box.get_mi_vector(m_ps.pos[j], m_ps.pos[i]);
+  auto const a = folded_position(pid1), b = folded_position(pid2);
+  return m_box.get_mi_vector(b, a);
+}
+
+Utils::Vector3d System::folded_position(int pid) const {
+  double buf[4] = {0., 0., 0., 0.};
+  int const i = m_ps.index_of(pid);
+  if (i >= 0) {
+    for (int d = 0; d < 3; ++d)
+      buf[d] = m_ps.pos[i][d];
+    buf[3] = 1.;
+  }
+  m_comm.sum_inplace(buf, 4);
+  if (buf[3] != 1.)
+    throw std::out_of_range("particle " + std::to_string(pid) + " does not exist");
+  return {buf[0], buf[1], buf[2]};
+}
+
+int System::n_particles() const {
+  return static_cast<int>(m_comm.sum(static_cast<long long>(m_ps.n_local())));
 }
 
 } // namespace Marble

@@ -146,6 +146,10 @@ public:
   /** Minimum pair distance between particles of types in @p t1 and @p t2 (empty = all). */
   double min_dist(std::vector<int> const &t1, std::vector<int> const &t2);
   Utils::Vector3d distance_vec(int pid1, int pid2) const;
+  /** Folded position of particle @p pid (collective; throws std::out_of_range). */
+  Utils::Vector3d folded_position(int pid) const;
+  /** Number of particles on all ranks (collective). */
+  int n_particles() const;
 
 #ifdef MARBLE
   Colloids const &colloids() const { return m_colloids; }
