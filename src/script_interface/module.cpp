@@ -46,6 +46,20 @@ PYBIND11_MODULE(_marble, m) {
   m.def("mpi_rank", [] { return Marble::Communicator().rank(); });
   m.def("mpi_size", [] { return Marble::Communicator().size(); });
   m.def("features", [] { return split(MARBLE_FEATURES_ACTIVE); });
+  // optional libraries compiled in (not physics features)
+  m.def("build_options", [] {
+    std::vector<std::string> o;
+#ifdef MARBLE_HAVE_MPI
+    o.emplace_back("MPI");
+#endif
+#ifdef MARBLE_HAVE_HDF5
+    o.emplace_back("HDF5");
+#endif
+#ifdef MARBLE_HAVE_FFTW
+    o.emplace_back("FFTW");
+#endif
+    return o;
+  });
   m.def("all_features", [] { return split(MARBLE_FEATURES_ALL); });
 
   py::class_<Marble::System> cls(m, "System");

@@ -54,6 +54,13 @@ void bind_system(py::class_<System> &cls) {
         s.set_skin(skin);
       });
   cls.def("n_rebuilds", [](System &s) { return s.cells().n_rebuilds(); });
+  cls.def("node_grid", [](System &s) { return s.cells().node_grid(s.box()); });
+  cls.def("local_domain", [](System &s) {
+    auto const d = s.cells().local_domain(s.box());
+    return std::make_pair(vec_to_array(d.first), vec_to_array(d.second));
+  });
+  // ids this rank owns (not collective; for tests and diagnostics)
+  cls.def("local_ids", [](System &s) { return s.particles().ids_sorted(); });
   cls.def("n_cells", [](System &s) { return s.cells().n_cells(); });
   cls.def("max_cut", &System::max_cutoff);
   cls.def("verlet_pairs", [](System &s) {

@@ -21,8 +21,24 @@ class CellSystem:
         if not use_verlet_lists:
             raise ValueError("parameter 'use_verlet_lists' must be True (Marble always uses them)")
 
+    @property
+    def node_grid(self):
+        """MPI ranks per axis (px, py, pz): the box is cut into px*py*pz equal
+        domains, one per rank, chosen to minimise the domain surface (ties:
+        x first). (1, 1, 1) without mpiexec. Read-only."""
+        return tuple(int(n) for n in self._system._core.node_grid())
+
+    def local_domain(self):
+        """(lower corner, size) of this rank's domain (not collective)."""
+        lo, size = self._system._core.local_domain()
+        return lo, size
+
+    def local_ids(self):
+        """Ids of the particles this rank owns after the last rebuild (not collective)."""
+        return list(self._system._core.local_ids())
+
     def get_state(self):
         core = self._system._core
         return {"type": "RegularDecomposition", "skin": core.skin,
                 "n_cells": list(core.n_cells()), "max_cut": core.max_cut(),
-                "verlet_rebuilds": core.n_rebuilds()}
+                "verlet_rebuilds": core.n_rebuilds(), "node_grid": list(core.node_grid())}
