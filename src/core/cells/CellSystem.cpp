@@ -221,6 +221,13 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       continue;
     }
     for (auto const &sh : shifts) {
+      // cheap reject: an image farther than the range from the box on some axis
+      if (sh[0] != 0. && (p[0] + sh[0] < -r || p[0] + sh[0] >= L[0] + r))
+        continue;
+      if (sh[1] != 0. && (p[1] + sh[1] < -r || p[1] + sh[1] >= L[1] + r))
+        continue;
+      if (sh[2] != 0. && (p[2] + sh[2] < -r || p[2] + sh[2] >= L[2] + r))
+        continue;
       Vector3d const q = p + sh;
       // node-grid coordinates whose domain, grown by the range, holds q
       std::array<int, 3> lo{}, hi{};

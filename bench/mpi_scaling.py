@@ -1,0 +1,139 @@
+"""Strong scaling of the domain decomposition: a rho = 3 DPD fluid (the
+marble paper's solvent: a = 0, gamma = 5, r_c = 1, kT = 1, dt = 0.01) in
+boxes L = 20 and 40 on 1 and 2 MPI ranks.
+
+Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--out DIR]
+
+Every launch (`mpiexec -n N`) builds the fluid, relaxes it and times
+integrator.run() in several rounds; launches of the rank counts compared are
+interleaved (1 2 1 2 ...) so that load from other processes hits them alike.
+Reported per case: median particle-steps per wall-second, and the parallel
+efficiency E = t_1 / (N t_N) of the medians. On a shared machine E is only
+meaningful when N cores are free: the JSON records the load average before
+and after. Writes bench/results/mpi_scaling.json and .png.
+"""
+import argparse
+import json
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def worker(L, steps, rounds, out):
+    import marble
+    rng = np.random.default_rng(7)
+    n = int(round(3.0 * L**3))
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.01
+    s.cell_system.skin = 0.4
+    s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
+    s.thermostat.set_dpd(kT=1.0, seed=7)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+    s.integrator.run(30)
+    wall, cpu = [], []
+    for _ in range(rounds):
+        s.analysis.energy()  # a collective call: the ranks start together
+        t0, c0 = time.perf_counter(), time.process_time()
+        s.integrator.run(steps)
+        s.analysis.energy()
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    if marble.mpi_rank() == 0:
+        with open(out, "w") as f:
+            json.dump(dict(n=n, steps=steps, wall=wall, cpu_rank0=cpu, ranks=marble.mpi_size(),
+                           node_grid=list(s.cell_system.node_grid)), f)
+
+
+def launch(ranks, L, steps, rounds):
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "r.json")
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                   OMPI_MCA_rmaps_base_oversubscribe="1")
+        cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", "none", sys.executable,
+               os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out]
+        subprocess.run(cmd, env=env, check=True)
+        with open(out) as f:
+            return json.load(f)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="L = 10 and 20 only, short rounds")
+    p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    p.add_argument("--launches", type=int, default=3, help="launches per rank count")
+    p.add_argument("--out", default=os.path.join(HERE, "results"))
+    p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
+    a = p.parse_args()
+    if a.worker:
+        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3])
+        return
+    import marble
+    cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
+    rounds = 2 if a.quick else 3
+    load0 = os.getloadavg()
+    res = dict(machine=dict(cpu=platform.processor() or platform.machine(), cores=os.cpu_count(),
+                            load_avg_before=load0, python=platform.python_version(),
+                            marble_git=subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
+                                                      capture_output=True, text=True).stdout.strip(),
+                            features=marble.features(), build_options=marble.build_options(),
+                            date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())),
+               fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
+               launches=a.launches, rounds_per_launch=rounds, cases={})
+    for L, steps in cases.items():
+        samples = {n: [] for n in a.ranks}
+        for k in range(a.launches):
+            for n in a.ranks:
+                r = launch(n, L, steps, rounds)
+                samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
+                print(f"L={L:g} ranks={n} launch {k}: "
+                      f"{statistics.median(samples[n][-rounds:]):.3e} particle-steps/s", flush=True)
+        case = dict(L=L, n=int(round(3 * L**3)), steps_per_round=steps)
+        base = statistics.median(samples[a.ranks[0]])
+        for n in a.ranks:
+            med = statistics.median(samples[n])
+            case[f"ranks{n}"] = dict(median_wall=med, samples_wall=samples[n],
+                                     speedup=med / base, efficiency=med / base / (n / a.ranks[0]))
+        res["cases"][f"L{L:g}"] = case
+    res["machine"]["load_avg_after"] = os.getloadavg()
+    os.makedirs(a.out, exist_ok=True)
+    name = "mpi_scaling_quick" if a.quick else "mpi_scaling"
+    with open(os.path.join(a.out, name + ".json"), "w") as f:
+        json.dump(res, f, indent=1)
+    for key, c in res["cases"].items():
+        print(key, " ".join(f"{n} ranks: {c[f'ranks{n}']['median_wall']:.3e}/s "
+                            f"(E = {c[f'ranks{n}']['efficiency']:.2f})" for n in a.ranks))
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(1, 2, figsize=(9, 3.6))
+        keys = list(res["cases"])
+        x = np.arange(len(keys))
+        w = 0.8 / len(a.ranks)
+        for i, n in enumerate(a.ranks):
+            ax[0].bar(x + i * w, [res["cases"][k][f"ranks{n}"]["median_wall"] for k in keys], w,
+                      label=f"{n} rank(s)")
+            ax[1].bar(x + i * w, [res["cases"][k][f"ranks{n}"]["efficiency"] for k in keys], w)
+        for axi, lab in zip(ax, ("particle-steps per wall-second", "parallel efficiency")):
+            axi.set_xticks(x + w * (len(a.ranks) - 1) / 2, [f"L = {k[1:]}" for k in keys])
+            axi.set_ylabel(lab)
+        ax[1].axhline(1.0, color="k", lw=0.8)
+        ax[0].legend()
+        fig.suptitle("rho = 3 DPD fluid, strong scaling (Marble, MPI)")
+        fig.tight_layout()
+        fig.savefig(os.path.join(a.out, name + ".png"), dpi=110)
+    except ImportError:
+        pass
+
+
+if __name__ == "__main__":
+    main()
