@@ -65,6 +65,17 @@ def scene_lj():
     return s, out
 
 
+def scene_channel():
+    """Tunable-slip walls, non-periodic z, a body force: the channel of the
+    slip samples (marble.slip.make_channel), split in z on 2 ranks."""
+    from marble.slip import make_channel
+    s = make_channel(marble, box_xy=4.0, height=8.0, gamma_L=1.0, body_force=0.05, wall_velocity=0.2)
+    s.integrator.run(100)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                   node_grid=np.array(s.cell_system.node_grid))
+
+
 def scene_blowup():
     """A step far too large: every rank must stop with the same RuntimeError (no hang)."""
     s = fluid(4.0)

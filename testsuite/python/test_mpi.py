@@ -83,6 +83,14 @@ def test_lj_energy_conserved_and_equal():
     assert abs(two["pressure"] - one["pressure"]) < 1e-9 * abs(one["pressure"])
 
 
+def test_walls_channel():
+    """Tunable-slip walls and a body force; the box is 4 x 4 x 8, so 2 ranks split z
+    (the non-periodic axis): beads near a wall interact with it on their own rank."""
+    one, two = run("channel", 1), run("channel", 2)
+    assert tuple(two["node_grid"]) == (1, 1, 2)
+    assert_same_trajectory(one, two)
+
+
 def test_blowup_stops_every_rank_cleanly():
     res = run("blowup", 2)
     msg = str(res["msg"])
