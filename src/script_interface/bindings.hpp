@@ -13,4 +13,5 @@ void bind_marble(py::class_<Marble::System> &cls);
 void bind_constraints(py::class_<Marble::System> &cls);
 void bind_integrators(py::class_<Marble::System> &cls); // integrators.cpp
 void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls);
+void bind_io(py::module_ &m, py::class_<Marble::System> &cls); // io.cpp
 } // namespace ScriptInterface

@@ -18,6 +18,10 @@
 #include <string>
 #include <vector>
 
+namespace Marble {
+struct CheckpointAccess; // io/checkpoint.cpp: accumulator state, bit for bit
+}
+
 namespace Marble::Accumulators {
 
 enum class CorrOperation { ScalarProduct, ComponentwiseProduct, SquareDistanceComponentwise };
@@ -36,6 +40,8 @@ void correlate_add(CorrOperation op, double const *a, double const *b, std::size
 
 /** The multiple-tau data structure (no System): push samples, read results. */
 class MultipleTau {
+  friend struct Marble::CheckpointAccess;
+
 public:
   /** @p tau_max_samples >= 1: the largest lag (in samples) to cover; the
    * number of levels is the smallest H with tau_lin 2^(H-1) >= it. */
@@ -75,6 +81,8 @@ private:
 
 /** AutoUpdate wrapper: samples obs1 (and obs2) every delta_N steps. */
 class Correlator : public AutoUpdate {
+  friend struct Marble::CheckpointAccess;
+
 public:
   /** @p dt: time between samples (delta_N * time_step), for lag times and
    * to detect a later change of the time step. Validates everything. */
@@ -104,6 +112,8 @@ private:
 
 /** Stores every sample. */
 class TimeSeries : public AutoUpdate {
+  friend struct Marble::CheckpointAccess;
+
 public:
   TimeSeries(std::shared_ptr<Observables::Observable> obs, int delta_N);
   void update(System &system) override;
@@ -120,6 +130,8 @@ private:
 
 /** Running mean and variance per value (Welford). */
 class MeanVarianceCalculator : public AutoUpdate {
+  friend struct Marble::CheckpointAccess;
+
 public:
   MeanVarianceCalculator(std::shared_ptr<Observables::Observable> obs, int delta_N);
   void update(System &system) override;

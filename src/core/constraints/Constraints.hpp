@@ -44,6 +44,8 @@ struct WallNoise {
 };
 
 class Constraints {
+  friend struct CheckpointAccess; // io/checkpoint.cpp
+
 public:
   int add_wall(Wall w);
   void remove(int id);

@@ -26,6 +26,8 @@ struct NoiseContext {
 };
 
 class Colloids {
+  friend struct CheckpointAccess; // io/checkpoint.cpp
+
 public:
   /** Marble coupling of colloid type @p c with solvent type @p s (ordered). */
   void set(int c, int s, MarbleParams const &p);

@@ -43,6 +43,14 @@ class _Accumulator:
         """Sampling interval in integration steps."""
         return self._acc.delta_N
 
+    def __reduce__(self):
+        """Pickled with its constructor arguments and its full C++ state (the
+        correlator's hierarchy and sums, the series, the running moments), so
+        a restored accumulator continues exactly where this one stopped."""
+        return (_restore_accumulator,
+                (type(self), self._ctor_kwargs, self._time_step,
+                 _marble.accumulator_get_state(self._acc)))
+
     def update(self):
         """Take one sample now (the integrator does this every delta_N steps
         once the accumulator is in ``system.auto_update_accumulators``)."""
@@ -73,7 +81,11 @@ class Correlator(_Accumulator):
                 "compress1", "compress2")
 
     def __init__(self, **kwargs):
+        self._build(kwargs, None)
+
+    def _build(self, kwargs, time_step):
         _check_kwargs("Correlator", kwargs, self._allowed, ("obs1", "tau_max", "corr_operation"))
+        self._ctor_kwargs = dict(kwargs)
         self._obs_py = _check_obs("obs1", kwargs["obs1"])
         obs2 = kwargs.get("obs2")
         if obs2 is not None:
@@ -93,9 +105,10 @@ class Correlator(_Accumulator):
         self._params = dict(tau_lin=kwargs.get("tau_lin", 16), tau_max=kwargs["tau_max"],
                             delta_N=kwargs.get("delta_N", 1), corr_operation=op,
                             compress1=c1, compress2=c2)
+        self._time_step = self._system().time_step if time_step is None else time_step
         self._acc = _marble.Correlator(
             self._obs_py._obs, None if obs2 is None else obs2._obs, self._params["tau_lin"],
-            self._params["tau_max"], self._params["delta_N"], self._system().time_step, op, c1, c2)
+            self._params["tau_max"], self._params["delta_N"], self._time_step, op, c1, c2)
 
     @property
     def obs1(self):
@@ -155,7 +168,11 @@ class TimeSeries(_Accumulator):
     _allowed = ("obs", "delta_N")
 
     def __init__(self, **kwargs):
+        self._build(kwargs, None)
+
+    def _build(self, kwargs, time_step):
         _check_kwargs("TimeSeries", kwargs, self._allowed, ("obs",))
+        self._ctor_kwargs, self._time_step = dict(kwargs), time_step
         self._obs_py = _check_obs("obs", kwargs["obs"])
         self._acc = _marble.TimeSeries(self._obs_py._obs, kwargs.get("delta_N", 1))
 
@@ -177,7 +194,11 @@ class MeanVarianceCalculator(_Accumulator):
     _allowed = ("obs", "delta_N")
 
     def __init__(self, **kwargs):
+        self._build(kwargs, None)
+
+    def _build(self, kwargs, time_step):
         _check_kwargs("MeanVarianceCalculator", kwargs, self._allowed, ("obs",))
+        self._ctor_kwargs, self._time_step = dict(kwargs), time_step
         self._obs_py = _check_obs("obs", kwargs["obs"])
         self._acc = _marble.MeanVarianceCalculator(self._obs_py._obs, kwargs.get("delta_N", 1))
 
@@ -215,6 +236,11 @@ class AutoUpdateAccumulators:
         self._system._core.auto_update_add(accumulator._acc)
         self._list.append(accumulator)
 
+    def _restore(self, accumulator):
+        """Unpickling: re-register without the checks (same order as saved)."""
+        self._system._core.auto_update_add(accumulator._acc)
+        self._list.append(accumulator)
+
     def remove(self, accumulator):
         if accumulator not in self._list:
             raise ValueError("this accumulator is not in auto_update_accumulators")
@@ -236,6 +262,13 @@ class AutoUpdateAccumulators:
 
     def __getitem__(self, k):
         return self._list[k]
+
+
+def _restore_accumulator(cls, kwargs, time_step, state):
+    acc = cls.__new__(cls)
+    acc._build(kwargs, time_step)
+    _marble.accumulator_set_state(acc._acc, state)
+    return acc
 
 
 def have_fftw():

@@ -46,6 +46,11 @@ class Observable:
                              f"(allowed: {', '.join(self._allowed)})")
         self._system = _resolve_system(kwargs.get("system"))
         self._obs = self._make(kwargs)
+        self._kwargs = {k: v for k, v in kwargs.items() if k != "system"}
+
+    def __reduce__(self):
+        # built completely on unpickling (accumulators need the core object)
+        return (_restore_observable, (type(self), self._system, self._kwargs))
 
     def _make(self, kwargs):
         raise NotImplementedError
@@ -108,3 +113,7 @@ class ParticleAngularVelocities(_PidObservable):
 class ComVelocity(_PidObservable):
     """Mass-weighted centre-of-mass velocity of the ids, shape (3,)."""
     _core_class = _marble.ComVelocity
+
+
+def _restore_observable(cls, system, kwargs):
+    return cls(system=system, **kwargs)

@@ -92,6 +92,9 @@ class ParticleHandle:
             out[name] = getattr(self, name)
         return out
 
+    def __reduce__(self):
+        return (ParticleHandle, (self._system, self._id))
+
     def __repr__(self):
         return f"<ParticleHandle id={self._id}>"
 
@@ -132,6 +135,9 @@ class ParticleSlice:
     def remove(self):
         """Delete these particles."""
         self._core.remove_particles(self._ids)
+
+    def __reduce__(self):
+        return (ParticleSlice, (self._system, list(self._ids)))
 
     def __repr__(self):
         return f"<ParticleSlice of {len(self._ids)} particles>"

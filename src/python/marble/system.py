@@ -33,6 +33,16 @@ class System:
         if "box_l" not in kwargs:
             raise ValueError("parameter 'box_l' is required")
         self._core = _marble.System(kwargs["box_l"])
+        self._init_wrappers()
+        if "periodicity" in kwargs:
+            self.periodicity = kwargs["periodicity"]
+        if "time_step" in kwargs:
+            self.time_step = kwargs["time_step"]
+
+    _wrappers = ("_core", "part", "non_bonded_inter", "thermostat", "integrator", "cell_system",
+                 "analysis", "galilei", "constraints", "auto_update_accumulators")
+
+    def _init_wrappers(self):
         self.part = ParticleList(self)
         self.non_bonded_inter = NonBondedInteractions(self)
         self.thermostat = Thermostat(self)
@@ -42,10 +52,28 @@ class System:
         self.galilei = GalileiTransform(self)
         self.constraints = Constraints(self)
         self.auto_update_accumulators = AutoUpdateAccumulators(self)
-        if "periodicity" in kwargs:
-            self.periodicity = kwargs["periodicity"]
-        if "time_step" in kwargs:
-            self.time_step = kwargs["time_step"]
+
+    # --- pickling (marble.checkpointing, doc/io.md) -------------------------
+    def __reduce__(self):
+        """Pickled as the core's checkpoint blob (the whole state, bit for bit:
+        particles in their stored order with forces and pos_at_rebuild,
+        parameters, thermostat counter, integrator) plus the Python-side state:
+        the walls' shapes, the accumulators in ``auto_update_accumulators``
+        (with their full state) and any attribute a script added. Collective
+        in an MPI run: every rank's particles are gathered."""
+        extra = {k: v for k, v in self.__dict__.items() if k not in self._wrappers}
+        state = {"constraints": [(c._id, c.shape) for c in self.constraints],
+                 "accumulators": list(self.auto_update_accumulators),
+                 "extra": extra}
+        return (_restore_system, (self._core.get_checkpoint_state(),), state)
+
+    def __setstate__(self, state):
+        from .constraints import ShapeBasedConstraint
+        for cid, shape in state["constraints"]:
+            self.constraints._list.append(ShapeBasedConstraint(self, cid, shape))
+        for acc in state["accumulators"]:
+            self.auto_update_accumulators._restore(acc)
+        self.__dict__.update(state["extra"])
 
     # --- parameters -------------------------------------------------------
     @property
@@ -113,3 +141,14 @@ class System:
     def distance(self, p1, p2):
         """Minimum-image distance between p1 and p2 (particles or positions)."""
         return float(np.linalg.norm(self.distance_vec(p1, p2)))
+
+
+def _restore_system(blob):
+    """Unpickling: a System whose core state is ``blob`` (validated completely
+    before use: RuntimeError for a corrupt or foreign blob)."""
+    core = _marble.System([1.0, 1.0, 1.0])
+    core.set_checkpoint_state(blob)
+    system = System.__new__(System)
+    system._core = core
+    system._init_wrappers()
+    return system

@@ -1,0 +1,418 @@
+// H5MD trajectory writer (see h5md.hpp, doc/io.md).
+#include "io/h5md.hpp"
+
+#include "config/features.hpp"
+#include "utils/errors.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace Marble::IO {
+
+namespace {
+
+constexpr hsize_t unlimited = H5S_UNLIMITED;
+constexpr hsize_t chunk_frames = 256; // step/time/edges chunks
+constexpr hsize_t max_chunk_rows = 1 << 16;
+
+/** A time-series group: value [frames, N(, 3)] with shared step/time. */
+struct Series {
+  std::string name;
+  hid_t group = -1, value = -1;
+  int cols = 0; // 0: one value per particle, 3: a vector per particle
+  hid_t file_type = -1, mem_type = -1;
+};
+
+} // namespace
+
+struct H5mdFile::Impl {
+  Communicator comm;
+  std::string path;
+  H5mdFields fields;
+  hid_t file = -1, particles = -1, atoms = -1, box = -1, edges_group = -1, edges = -1;
+  hid_t step = -1, time = -1; // owned by the first series group; hard links elsewhere
+  std::vector<Series> series;
+  long frames = 0, n = -1;
+  bool mpio = false; // MPI-IO driver (MPI initialised, parallel HDF5)
+
+  void check(herr_t rc, char const *what) const {
+    if (rc < 0)
+      throw Utils::RuntimeError("H5MD: " + std::string(what) + " failed for '" + path + "'");
+  }
+  hid_t check_id(hid_t id, char const *what) const {
+    if (id < 0)
+      throw Utils::RuntimeError("H5MD: " + std::string(what) + " failed for '" + path + "'");
+    return id;
+  }
+
+  hid_t group(hid_t loc, char const *name) const {
+    return check_id(H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "creating a group");
+  }
+
+  void attr_string(hid_t loc, char const *name, std::string const &value) const {
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, std::max<std::size_t>(value.size(), 1) + 1);
+    H5Tset_strpad(t, H5T_STR_NULLTERM);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = check_id(H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT), "creating an attribute");
+    std::vector<char> buf(value.size() + 2, '\0');
+    std::copy(value.begin(), value.end(), buf.begin());
+    check(H5Awrite(a, t, buf.data()), "writing an attribute");
+    H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+  }
+
+  void attr_strings(hid_t loc, char const *name, std::vector<std::string> const &values) const {
+    std::size_t len = 1;
+    for (auto const &v : values)
+      len = std::max(len, v.size() + 1);
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, len);
+    H5Tset_strpad(t, H5T_STR_NULLTERM);
+    hsize_t const dim = values.size();
+    hid_t sp = H5Screate_simple(1, &dim, nullptr);
+    hid_t a = check_id(H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT), "creating an attribute");
+    std::vector<char> buf(len * values.size(), '\0');
+    for (std::size_t i = 0; i < values.size(); ++i)
+      std::copy(values[i].begin(), values[i].end(), buf.begin() + i * len);
+    check(H5Awrite(a, t, buf.data()), "writing an attribute");
+    H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+  }
+
+  void attr_ints(hid_t loc, char const *name, std::vector<int> const &values) const {
+    hsize_t const dim = values.size();
+    hid_t sp = values.size() == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &dim, nullptr);
+    hid_t a = check_id(H5Acreate2(loc, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT),
+                       "creating an attribute");
+    check(H5Awrite(a, H5T_NATIVE_INT, values.data()), "writing an attribute");
+    H5Aclose(a);
+    H5Sclose(sp);
+  }
+
+  /** Extensible dataset of shape [0, dims...]. */
+  hid_t dataset(hid_t loc, char const *name, hid_t type, std::vector<hsize_t> const &inner,
+                hsize_t chunk_first) const {
+    std::vector<hsize_t> dims{0}, maxdims{unlimited}, chunk{chunk_first};
+    for (auto d : inner) {
+      dims.push_back(d);
+      maxdims.push_back(d);
+      chunk.push_back(std::max<hsize_t>(1, std::min(d, max_chunk_rows)));
+    }
+    hid_t sp = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), maxdims.data());
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    check(H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data()), "setting the chunk size");
+    hid_t ds = check_id(H5Dcreate2(loc, name, type, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                        "creating a dataset");
+    H5Pclose(dcpl);
+    H5Sclose(sp);
+    return ds;
+  }
+
+  /** Grow @p ds to @p frames along its first axis. */
+  void extend(hid_t ds, hsize_t frames_new) const {
+    hid_t sp = H5Dget_space(ds);
+    int const rank = H5Sget_simple_extent_ndims(sp);
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+    H5Sclose(sp);
+    dims[0] = frames_new;
+    check(H5Dset_extent(ds, dims.data()), "extending a dataset");
+  }
+
+  hid_t xfer() const {
+    hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+#if defined(MARBLE_HAVE_MPI) && defined(H5_HAVE_PARALLEL)
+    if (mpio)
+      check(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), "setting collective transfer");
+#endif
+    return dxpl;
+  }
+
+  /** Collective write of one frame's block [frame, 0.., 0..] from rank 0 only. */
+  void write_root(hid_t ds, hid_t mem_type, void const *buf, std::vector<hsize_t> const &inner) const {
+    hid_t fs = H5Dget_space(ds);
+    std::vector<hsize_t> start(inner.size() + 1, 0), count{1};
+    start[0] = static_cast<hsize_t>(frames);
+    count.insert(count.end(), inner.begin(), inner.end());
+    hsize_t n_mem = 1;
+    for (auto d : inner)
+      n_mem *= d;
+    hid_t ms = H5Screate_simple(1, &n_mem, nullptr);
+    if (comm.is_root()) {
+      check(H5Sselect_hyperslab(fs, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+            "selecting");
+    } else {
+      H5Sselect_none(fs);
+      H5Sselect_none(ms);
+    }
+    hid_t dxpl = xfer();
+    herr_t rc = H5Dwrite(ds, mem_type, ms, fs, dxpl, buf);
+    H5Pclose(dxpl);
+    H5Sclose(ms);
+    H5Sclose(fs);
+    check(rc, "writing a dataset");
+  }
+
+  /** Collective write of this rank's rows: @p runs are [first row, length)
+   * in increasing order, @p buf holds the rows in that order. */
+  void write_rows(Series const &s, std::vector<std::array<hsize_t, 2>> const &runs,
+                  void const *buf, hsize_t n_rows) const {
+    hid_t fs = H5Dget_space(s.value);
+    hsize_t const per_row = s.cols == 0 ? 1 : static_cast<hsize_t>(s.cols);
+    hsize_t n_mem = std::max<hsize_t>(1, n_rows * per_row);
+    hid_t ms = H5Screate_simple(1, &n_mem, nullptr);
+    if (runs.empty()) {
+      H5Sselect_none(fs);
+      H5Sselect_none(ms);
+    } else {
+      H5Sselect_none(fs);
+      for (auto const &r : runs) {
+        std::array<hsize_t, 3> start{static_cast<hsize_t>(frames), r[0], 0};
+        std::array<hsize_t, 3> count{1, r[1], per_row};
+        check(H5Sselect_hyperslab(fs, H5S_SELECT_OR, start.data(), nullptr, count.data(), nullptr),
+              "selecting rows");
+      }
+    }
+    hid_t dxpl = xfer();
+    herr_t rc = H5Dwrite(s.value, s.mem_type, ms, fs, dxpl, buf);
+    H5Pclose(dxpl);
+    H5Sclose(ms);
+    H5Sclose(fs);
+    check(rc, "writing a dataset");
+  }
+
+  void create_datasets(long n_particles) {
+    auto const N = static_cast<hsize_t>(n_particles);
+    auto add = [&](bool on, char const *name, int cols, hid_t file_type, hid_t mem_type) {
+      if (!on)
+        return;
+      Series s;
+      s.name = name;
+      s.cols = cols;
+      s.file_type = file_type;
+      s.mem_type = mem_type;
+      s.group = group(atoms, name);
+      std::vector<hsize_t> inner{N};
+      if (cols)
+        inner.push_back(static_cast<hsize_t>(cols));
+      s.value = dataset(s.group, "value", file_type, inner, 1);
+      series.push_back(s);
+    };
+    add(fields.position, "position", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    add(fields.image, "image", 3, H5T_STD_I32LE, H5T_NATIVE_INT);
+    add(fields.velocity, "velocity", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    add(fields.force, "force", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    add(fields.species, "species", 0, H5T_STD_I32LE, H5T_NATIVE_INT);
+    add(fields.mass, "mass", 0, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    add(fields.id, "id", 0, H5T_STD_I32LE, H5T_NATIVE_INT);
+    if (fields.box) {
+      edges_group = group(box, "edges");
+      edges = dataset(edges_group, "value", H5T_IEEE_F64LE, {3, 3}, chunk_frames);
+    }
+    // step (always: H5MD requires it) and time, shared by every time series
+    hid_t owner = !series.empty() ? series.front().group : edges_group;
+    if (owner < 0)
+      return;
+    step = dataset(owner, "step", H5T_STD_I64LE, {}, chunk_frames);
+    if (fields.time)
+      time = dataset(owner, "time", H5T_IEEE_F64LE, {}, chunk_frames);
+    std::vector<hid_t> others;
+    for (auto const &s : series)
+      if (s.group != owner)
+        others.push_back(s.group);
+    if (edges_group >= 0 && edges_group != owner)
+      others.push_back(edges_group);
+    for (hid_t g : others) {
+      check(H5Lcreate_hard(owner, "step", g, "step", H5P_DEFAULT, H5P_DEFAULT), "linking step");
+      if (fields.time)
+        check(H5Lcreate_hard(owner, "time", g, "time", H5P_DEFAULT, H5P_DEFAULT), "linking time");
+    }
+  }
+
+  void close_all() {
+    for (auto &s : series) {
+      H5Dclose(s.value);
+      H5Gclose(s.group);
+    }
+    series.clear();
+    for (hid_t *d : {&edges, &step, &time})
+      if (*d >= 0)
+        H5Dclose(*d), *d = -1;
+    for (hid_t *g : {&edges_group, &box, &atoms, &particles})
+      if (*g >= 0)
+        H5Gclose(*g), *g = -1;
+    if (file >= 0) {
+      H5Fclose(file);
+      file = -1;
+    }
+  }
+};
+
+H5mdFile::H5mdFile(System const &system, std::string const &path, H5mdFields const &fields,
+                   std::string const &author)
+    : m(std::make_unique<Impl>()) {
+  m->comm = system.comm();
+  m->path = path;
+  m->fields = fields;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported as exceptions
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+#if defined(MARBLE_HAVE_MPI) && defined(H5_HAVE_PARALLEL)
+  int mpi_on = 0;
+  MPI_Initialized(&mpi_on);
+  if (mpi_on) { // the Python module always initialises MPI; C++ tests may not
+    m->check(H5Pset_fapl_mpio(fapl, m->comm.comm(), MPI_INFO_NULL), "selecting the MPI-IO driver");
+    m->mpio = true;
+  }
+#endif
+  m->file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  if (m->file < 0)
+    throw Utils::RuntimeError("H5MD: cannot create file '" + path +
+                              "' (does the directory exist and is it writable?)");
+  try {
+    hid_t h5md = m->group(m->file, "h5md");
+    m->attr_ints(h5md, "version", {1, 1});
+    hid_t a = m->group(h5md, "author");
+    m->attr_string(a, "name", author.empty() ? std::string("unknown") : author);
+    H5Gclose(a);
+    hid_t c = m->group(h5md, "creator");
+    m->attr_string(c, "name", "Marble");
+    m->attr_string(c, "version", "0.1.0");
+    H5Gclose(c);
+    H5Gclose(h5md);
+    m->particles = m->group(m->file, "particles");
+    m->atoms = m->group(m->particles, "atoms");
+    m->box = m->group(m->atoms, "box");
+    m->attr_ints(m->box, "dimension", {3});
+    std::vector<std::string> boundary;
+    for (int d = 0; d < 3; ++d)
+      boundary.push_back(system.box().periodic(d) ? "periodic" : "none");
+    m->attr_strings(m->box, "boundary", boundary);
+  } catch (...) {
+    m->close_all();
+    throw;
+  }
+}
+
+H5mdFile::~H5mdFile() {
+  if (m)
+    m->close_all();
+}
+
+bool H5mdFile::is_open() const { return m->file >= 0; }
+long H5mdFile::n_frames() const { return m->frames; }
+long H5mdFile::n_particles() const { return m->n; }
+std::string const &H5mdFile::path() const { return m->path; }
+
+void H5mdFile::write(System const &system) {
+  if (m->file < 0)
+    throw Utils::RuntimeError("H5MD: the file '" + m->path + "' is closed");
+  auto const &ps = system.particles();
+  int const n_local = ps.n_local();
+  std::vector<int> local_ids(ps.id.begin(), ps.id.begin() + n_local);
+  auto all_ids = m->comm.allgatherv(local_ids);
+  long const N = static_cast<long>(all_ids.size());
+  if (m->n < 0) {
+    if (N == 0)
+      throw Utils::RuntimeError("H5MD: the system has no particles: nothing to write");
+    m->create_datasets(N);
+    m->n = N;
+  } else if (N != m->n) {
+    throw Utils::RuntimeError("H5MD: the number of particles changed from " + std::to_string(m->n) +
+                              " to " + std::to_string(N) + " since the first frame of '" + m->path +
+                              "'; an H5MD file holds a fixed number of particles: close it and "
+                              "write to a new file");
+  }
+  std::sort(all_ids.begin(), all_ids.end());
+  // this rank's locals in increasing row order, and the runs of consecutive rows
+  std::vector<std::pair<hsize_t, int>> rows; // (row, local index)
+  rows.reserve(static_cast<std::size_t>(n_local));
+  for (int i = 0; i < n_local; ++i) {
+    auto const it = std::lower_bound(all_ids.begin(), all_ids.end(), ps.id[i]);
+    rows.emplace_back(static_cast<hsize_t>(it - all_ids.begin()), i);
+  }
+  std::sort(rows.begin(), rows.end());
+  std::vector<std::array<hsize_t, 2>> runs;
+  for (auto const &[r, i] : rows) {
+    if (!runs.empty() && runs.back()[0] + runs.back()[1] == r)
+      ++runs.back()[1];
+    else
+      runs.push_back({r, 1});
+  }
+  hsize_t const frames_new = static_cast<hsize_t>(m->frames + 1);
+  for (auto const &s : m->series)
+    m->extend(s.value, frames_new);
+  for (hid_t d : {m->edges, m->step, m->time})
+    if (d >= 0)
+      m->extend(d, frames_new);
+
+  auto const &box = system.box();
+  std::vector<double> dbuf;
+  std::vector<int> ibuf;
+  for (auto const &s : m->series) {
+    dbuf.clear();
+    ibuf.clear();
+    for (auto const &[r, i] : rows) {
+      (void)r;
+      if (s.name == "position" || s.name == "image") {
+        Utils::Vector3d p = ps.pos[i];
+        Utils::Vector3i img = ps.image[i];
+        box.fold(p, img);
+        for (int d = 0; d < 3; ++d) {
+          if (s.name == "position")
+            dbuf.push_back(p[d]);
+          else
+            ibuf.push_back(img[d]);
+        }
+      } else if (s.name == "velocity" || s.name == "force") {
+        auto const &x = s.name == "velocity" ? ps.v[i] : ps.f[i];
+        for (int d = 0; d < 3; ++d)
+          dbuf.push_back(x[d]);
+      } else if (s.name == "species") {
+        ibuf.push_back(ps.type[i]);
+      } else if (s.name == "mass") {
+        dbuf.push_back(ps.get_mass(i));
+      } else if (s.name == "id") {
+        ibuf.push_back(ps.id[i]);
+      }
+    }
+    void const *buf = s.mem_type == H5T_NATIVE_DOUBLE ? static_cast<void const *>(dbuf.data())
+                                                      : static_cast<void const *>(ibuf.data());
+    double dummy = 0.;
+    if (rows.empty())
+      buf = &dummy;
+    m->write_rows(s, runs, buf, static_cast<hsize_t>(rows.size()));
+  }
+  if (m->edges >= 0) {
+    std::array<double, 9> e{};
+    for (int d = 0; d < 3; ++d)
+      e[d * 3 + d] = box.length()[d];
+    m->write_root(m->edges, H5T_NATIVE_DOUBLE, e.data(), {3, 3});
+  }
+  if (m->step >= 0) {
+    auto const st = static_cast<std::int64_t>(system.step());
+    m->write_root(m->step, H5T_NATIVE_INT64, &st, {});
+  }
+  if (m->time >= 0) {
+    double const t = system.time();
+    m->write_root(m->time, H5T_NATIVE_DOUBLE, &t, {});
+  }
+  ++m->frames;
+}
+
+void H5mdFile::flush() {
+  if (m->file >= 0)
+    m->check(H5Fflush(m->file, H5F_SCOPE_GLOBAL), "flushing");
+}
+
+void H5mdFile::close() { m->close_all(); }
+
+} // namespace Marble::IO
