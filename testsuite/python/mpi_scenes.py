@@ -76,6 +76,44 @@ def scene_channel():
                    node_grid=np.array(s.cell_system.node_grid))
 
 
+def _ckpt_dir():
+    import os
+    return os.environ["MARBLE_CKPT_DIR"]
+
+
+def scene_ckpt_reference():
+    """Checkpoint after N steps, then N more (the reference). Scene of
+    test_checkpoint.py (DPD + hat + marble + correlator + mean/variance)."""
+    import os
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from checkpoint_scene import dump, make_scene
+    import marble.checkpointing
+    s, corr, mv = make_scene("vv")
+    s.integrator.run(60)
+    ns = dict(system=s, corr=corr, mv=mv)
+    cp = marble.checkpointing.Checkpoint(checkpoint_id="mpi", checkpoint_path=_ckpt_dir(),
+                                         namespace=ns)
+    cp.register("system", "corr", "mv")
+    cp.save()
+    s.integrator.run(60)
+    return s, dump(s, corr, mv)
+
+
+def scene_ckpt_restart():
+    """A new mpiexec: load the checkpoint and run the second N steps."""
+    import os
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from checkpoint_scene import dump
+    import marble.checkpointing
+    ns = {}
+    cp = marble.checkpointing.Checkpoint(checkpoint_id="mpi", checkpoint_path=_ckpt_dir(),
+                                         namespace=ns)
+    cp.load()
+    s = ns["system"]
+    s.integrator.run(60)
+    return s, dump(s, ns["corr"], ns["mv"])
+
+
 def scene_blowup():
     """A step far too large: every rank must stop with the same RuntimeError (no hang)."""
     s = fluid(4.0)

@@ -488,6 +488,8 @@ struct CheckpointAccess {
     s.m_colloids.m_table = g.col_table;
     s.m_colloids.m_is_colloid = g.col_is_colloid;
     s.m_colloids.m_pairs.clear();
+    // with MPI, every rank keeps a copy of each colloid (cells/CellSystem.cpp)
+    s.m_cells.set_replicated_types(s.m_colloids.colloid_types());
 #endif
     auto &ps = s.m_ps;
     ps.clear();
