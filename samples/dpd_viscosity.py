@@ -78,5 +78,6 @@ ax.set_ylabel("v_x")
 ax.set_title("Reverse Poiseuille flow, DPD solvent")
 ax.legend()
 fig.tight_layout()
-fig.savefig(args.png, dpi=120)
-print(f"wrote {args.png}")
+if marble.mpi_rank() == 0:  # under MPI one rank writes
+    fig.savefig(args.png, dpi=120)
+    print(f"wrote {args.png}")

@@ -21,6 +21,8 @@ import time
 
 import numpy as np
 
+import marble  # noqa: E402
+
 from marble.colloid_runs import (DT, KT, QUICK, analyse_equilibrium, common_args,  # noqa: E402
                          drag_run, equilibrium_run, make_system, plot_setup, write_json)
 from marble import theory as th  # noqa: E402
@@ -122,7 +124,8 @@ def main():
     ax.set_title(f"marble R={R:g}, L={L:g}, eta={eta}, {len(seeds)} seeds", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "marble_diffusion_vs_gamma.png"), dpi=120)
+    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
+        fig.savefig(os.path.join(args.out, "marble_diffusion_vs_gamma.png"), dpi=120)
     print(f"wrote {jpath} and marble_diffusion_vs_gamma.png")
 
 

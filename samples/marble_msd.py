@@ -22,6 +22,8 @@ import time
 
 import numpy as np
 
+import marble  # noqa: E402
+
 from marble.colloid_runs import (DT, KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
                          make_system, msd_window, plot_setup, rows, write_json)
 from marble import diffusion as dif  # noqa: E402
@@ -94,7 +96,8 @@ def main():
                  fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "marble_msd.png"), dpi=120)
+    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
+        fig.savefig(os.path.join(args.out, "marble_msd.png"), dpi=120)
     print(f"wrote {jpath} and marble_msd.png")
 
 

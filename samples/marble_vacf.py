@@ -123,7 +123,8 @@ def main():
     axes[0].set_title(f"marble R={R:g}, L={L:g}, gamma={args.gamma:g}, "
                       f"{len(V)}x{t_chunk:g} tau", fontsize=9)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "marble_vacf.png"), dpi=120)
+    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
+        fig.savefig(os.path.join(args.out, "marble_vacf.png"), dpi=120)
     print(f"wrote {jpath} and marble_vacf.png")
 
 

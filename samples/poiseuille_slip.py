@@ -86,7 +86,7 @@ for row in rows:
 print("z in units of r_c from the wall plane; layer starts at", OFFSET,
       "; d2 < 0: no real (z_B, delta_B), reported delta_B = -sqrt(-d2), z_B = (z_P + z_0)/2")
 
-if not args.replot:
+if not args.replot and marble.mpi_rank() == 0:  # under MPI one rank writes
     with open(args.json, "w") as f:
         json.dump({"params": vars(args), "offset": OFFSET, "z_c": Z_C, "rows": rows}, f,
                   indent=1)
@@ -131,5 +131,6 @@ else:
     ax[1].set_ylabel("distance from the wall")
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.png, dpi=120)
-    print("wrote", args.png, "and", args.json)
+    if marble.mpi_rank() == 0:
+        fig.savefig(args.png, dpi=120)
+        print("wrote", args.png, "and", args.json)

@@ -45,6 +45,7 @@ PYBIND11_MODULE(_marble, m) {
   py::module_::import("atexit").attr("register")(py::cpp_function([] { Marble::mpi_finalize_once(); }));
   m.def("mpi_rank", [] { return Marble::Communicator().rank(); });
   m.def("mpi_size", [] { return Marble::Communicator().size(); });
+  m.def("mpi_abort", [](int code) { Marble::mpi_abort(code); });
   m.def("features", [] { return split(MARBLE_FEATURES_ACTIVE); });
   // optional libraries compiled in (not physics features)
   m.def("build_options", [] {

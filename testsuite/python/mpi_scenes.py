@@ -114,6 +114,15 @@ def scene_ckpt_restart():
     return s, dump(s, ns["corr"], ns["mv"])
 
 
+def scene_uncaught():
+    """An exception on rank 1 only: marble's excepthook must MPI_Abort every rank."""
+    s = fluid(4.0)
+    if marble.mpi_rank() == 1:
+        raise ValueError("raised on rank 1 only")
+    s.integrator.run(1000)  # rank 0 would wait here forever without the abort
+    return s, {}
+
+
 def scene_blowup():
     """A step far too large: every rank must stop with the same RuntimeError (no hang)."""
     s = fluid(4.0)

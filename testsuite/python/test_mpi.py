@@ -113,6 +113,30 @@ def test_io_on_two_ranks():
     assert p.stdout.count("passed") == 2, p.stdout
 
 
+def test_uncaught_exception_on_one_rank_aborts_all():
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    with tempfile.TemporaryDirectory() as d:
+        cmd = [MPIEXEC, "-n", "2", sys.executable, SCENES, "uncaught", os.path.join(d, "o.npz")]
+        p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
+    assert p.returncode != 0
+    assert "raised on rank 1 only" in p.stderr
+
+
+def test_sample_on_two_ranks():
+    """A paper sample (colloid set-up, drag and equilibrium runs, correlators,
+    JSON + PNG written by rank 0) runs under mpiexec -n 2 in its short test mode."""
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1", MARBLE_SAMPLE_TEST="1", MPLBACKEND="Agg")
+    sample = os.path.join(HERE, "..", "..", "samples", "marble_diffusion_vs_gamma.py")
+    with tempfile.TemporaryDirectory() as d:
+        cmd = [MPIEXEC, "-n", "2", sys.executable, sample, "--out", d]
+        p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+        assert p.returncode == 0, p.stdout + p.stderr
+        assert sorted(os.listdir(d)) == ["marble_diffusion_vs_gamma.json",
+                                         "marble_diffusion_vs_gamma.png"]
+
+
 def test_blowup_stops_every_rank_cleanly():
     res = run("blowup", 2)
     msg = str(res["msg"])

@@ -3,6 +3,7 @@
 #include "utils/errors.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <numeric>
 
 namespace Marble {
@@ -32,6 +33,12 @@ void mpi_finalize_once() {
   if (g_we_initialised && mpi_ready())
     MPI_Finalize();
   g_we_initialised = false;
+}
+
+void mpi_abort(int code) {
+  if (mpi_ready())
+    MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
 }
 
 Communicator::Communicator() {
@@ -152,6 +159,7 @@ void Communicator::throw_if_any(std::string const &local_error) const {
 
 void mpi_init_once() {}
 void mpi_finalize_once() {}
+void mpi_abort(int code) { std::exit(code); }
 Communicator::Communicator() = default;
 void Communicator::sum_inplace(double *, int) const {}
 void Communicator::sum_inplace(long long *, int) const {}

@@ -113,5 +113,7 @@ private:
 void mpi_init_once();
 /** Finalise MPI if this module initialised it. */
 void mpi_finalize_once();
+/** Stop all ranks (MPI_Abort; std::exit without MPI). */
+[[noreturn]] void mpi_abort(int code);
 
 } // namespace Marble

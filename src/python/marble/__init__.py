@@ -12,3 +12,26 @@ from . import io, checkpointing  # noqa: F401  (marble.io.H5md, marble.checkpoin
 __version__ = "0.1.0"
 __all__ = ["System", "FeaturesError", "features", "has_features", "all_features",
            "assert_features"]
+
+
+def _abort_all_ranks_on_uncaught_exception():
+    """Under MPI (more than one rank) an uncaught exception on one rank would
+    leave the others waiting in a collective call forever (and MPI_Finalize at
+    exit would wait for them): print the traceback, then MPI_Abort every rank.
+    Errors raised by marble itself are collective (every rank raises them), so
+    scripts that catch them keep running on all ranks."""
+    import sys
+    previous = sys.excepthook
+
+    def hook(exc_type, exc, tb):
+        previous(exc_type, exc, tb)
+        sys.stderr.flush()
+        sys.stdout.flush()
+        _marble.mpi_abort(1)
+
+    sys.excepthook = hook
+
+
+from . import _marble  # noqa: E402
+if mpi_size() > 1:
+    _abort_all_ranks_on_uncaught_exception()

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from . import _marble
 from . import accumulators as acc
 from . import diffusion as dif
 from . import observables as obs
@@ -179,6 +180,9 @@ def jsonable(x):
 
 
 def write_json(path, data):
+    """Write atomically (temp file + rename); under MPI only rank 0 writes."""
+    if _marble.mpi_rank() != 0:
+        return
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         json.dump(jsonable(data), f, indent=1)
