@@ -9,10 +9,14 @@ Sections (--part, comma separated; default all):
   kT       kT(dt) and cost per tau for VV, Shardlow S1 and DPD-VV at
            dt in {0.0025, 0.005, 0.01, 0.02, 0.04, 0.06}, L = 8 (1536 beads);
            error bars from block averaging; also the solvent self-diffusion
-           coefficient from the same runs (MSD slope between 10 and 30 tau).
+           coefficient from the same runs (MSD slope between 10 and 30 tau);
+           side check "kT_touch": kT when ext_force is re-assigned between
+           run() calls (as reverse_poiseuille does), which makes the next
+           step recompute the forces.
   density  rho in {3, 4, 5}: cost per tau per unit volume and kT at dt = 0.01
            (VV); solvent viscosity eta (reverse Poiseuille, 10 x 10 x 12) per
-           rho, and at rho = 3 for the three integrators at dt = 0.01 / 0.04.
+           rho, and at rho = 3 for the three integrators at dt = 0.01 / 0.04
+           (force re-assigned every 0.05 tau, and every ~0.25 tau).
   colloid  colloid D: drag (L = 8, 10, 12, 16; dt variants and a larger
            force at L = 8 / 10), VACF (Green-Kubo) and MSD at L = 8; D(L) vs
            Hasimoto, the L -> infinity value with and without the Hasimoto
@@ -27,7 +31,7 @@ what a run costs), in CPU-seconds per tau, and "cost to 1 %" = CPU-seconds x
 Run:   build/pymarble bench/speed_accuracy.py [--quick] [--part kT,plot] [--out DIR]
 Writes DIR/speed_accuracy.json (resumable: cases already there are skipped,
 --redo reruns them) and DIR/speed_accuracy_{kT,D,density}.png. --quick runs a
-~1 minute smoke version into speed_accuracy_quick.json / *_quick_*.png.
+~15 s smoke version into speed_accuracy_quick.json / *_quick_*.png.
 """
 import argparse
 import json
@@ -184,16 +188,25 @@ def solvent_msd_D(P, dt_s, t1, t2, n_blocks=8):
     return float(D), float(np.std(blocks, ddof=1) / np.sqrt(n_blocks))
 
 
-def kT_run(integ, dt, L, T, rho=3.0, seed=1, t_eq=5.0, msd=True):
+def kT_run(integ, dt, L, T, rho=3.0, seed=1, t_eq=5.0, msd=True, touch_every=0):
+    """touch_every > 0: re-assign ext_force = 0 to every particle every that
+    many steps (what reverse_poiseuille does with its body force), which makes
+    the next run() recompute the forces (at the full-step velocities)."""
     s, n = make_solvent(L, rho, integ, dt, seed)
     s.integrator.run(int(round(t_eq / dt)))
     every = max(1, int(round(0.1 / dt)))
+    if touch_every:
+        every = touch_every
+        zeros = np.zeros((n, 3))
+        msd = False
     pos_every = max(1, int(round(0.5 / (every * dt))))  # in kT samples
     posobs = obs.ParticlePositions(ids=list(range(n)), system=s) if msd else None
     n_samp = int(round(T / (every * dt)))
     kts, P = [], []
     clk = Clock()
     for i in range(n_samp):
+        if touch_every:
+            s.part.all().ext_force = zeros
         clk.run(s, every)
         kts.append(2.0 * s.analysis.energy()["kinetic"] / (3.0 * n - 3.0))
         if msd and i % pos_every == 0:
@@ -202,6 +215,7 @@ def kT_run(integ, dt, L, T, rho=3.0, seed=1, t_eq=5.0, msd=True):
     kT, kT_err = block_average(kts)
     T_done = n_samp * every * dt
     out = dict(integrator=integ, dt=dt, L=L, rho=rho, N=n, T=T_done, seed=seed, kT=kT,
+               touch_every=touch_every,
                kT_err=kT_err, steps=n_samp * every, **t)
     out["cpu_per_tau"] = t["cpu_run_s"] / T_done
     out["cpu_per_tau_per_1000p"] = out["cpu_per_tau"] / n * 1000.0
@@ -232,23 +246,43 @@ def section_kT(store, quick):
                 f" +/- {r.get('Ds_err', np.nan):.4f}, {r['cpu_per_tau_per_1000p']:.4f} CPU-s"
                 f" per tau per 1000 beads, {r['cpu_s']:.1f} CPU-s")
             store.put("kT", key, r)
+    # side check: re-assigning ext_force between run() calls (as reverse_poiseuille
+    # does) changes what VV / DPD-VV do on the following step
+    for integ, dt, touch in (("vv", 0.04, 1), ("vv", 0.04, 6), ("vv", 0.01, 5),
+                             ("dpd_vv", 0.04, 1), ("shardlow", 0.04, 1)):
+        if quick and dt != 0.04:
+            continue
+        key = f"{integ}_dt{dt}_touch{touch}"
+        if store.has("kT_touch", key):
+            continue
+        T = 30.0 if quick else 200.0
+        log(f"[kT_touch] {key}: ext_force re-assigned every {touch} steps, T = {T} tau ...")
+        r = kT_run(integ, dt, L, T, seed=12, touch_every=touch)
+        log(f"      kT = {r['kT']:.4f} +/- {r['kT_err']:.4f}")
+        store.put("kT_touch", key, r)
 
 
 # --------------------------------------------------------------------------
 # Section 2: density, viscosity
 # --------------------------------------------------------------------------
-def eta_run(rho, integ, dt, T, box, seed=21):
+def eta_run(rho, integ, dt, T, box, seed=21, upd_tau=0.05):
     s, n = make_solvent(None, rho, integ, dt, seed, box=box)
     s.integrator.run(int(round(5.0 / dt)))
     g = 0.06 * 3.0 / rho  # n g fixed: the same force density as doc/dpd.md's g = 0.06 at rho = 3
     clk = Clock()
-    upd = max(1, int(round(0.05 / dt)))
+    # Every re-assignment of ext_force marks the forces invalid, and the next
+    # run() recomputes them at the full-step velocities (with the last step's
+    # noise): with VV / DPD-VV that changes the integrator on those steps
+    # (VV at dt = 0.04 re-assigned every step: kT 1.001 instead of 1.037).
+    # Shardlow is unaffected (its DPD is not in the forces).
+    upd = max(1, int(round(upd_tau / dt)))
     smp = max(upd, int(round(0.1 / dt)))
     res = reverse_poiseuille(s, g=g, time=T, update_every=upd, sample_every=smp,
                              progress=lambda f: log(f"      {100 * f:.0f} %"))
     t = clk.done()
     V = float(np.prod(box))
     out = dict(rho=rho, integrator=integ, dt=dt, box=list(box), N=n, T=res.time, g=g,
+               update_every=upd, update_every_tau=upd * dt,
                eta=res.eta, eta_err=res.eta_err, kT_flow=res.kT, v_max=res.v_max, **t)
     out["cpu_per_tau_per_volume"] = t["cpu_s"] / res.time / V
     out["cost_1pct"] = t["cpu_s"] * (res.eta_err / res.eta / 0.01) ** 2
@@ -269,18 +303,21 @@ def section_density(store, quick):
             f" {r['cpu_per_tau_per_volume']:.5f} CPU-s per tau per unit volume")
         store.put("density", key, r)
     box = (6.0, 6.0, 8.0) if quick else (10.0, 10.0, 12.0)
-    cases = [(rho, "vv", 0.01) for rho in rhos]
+    cases = [(rho, "vv", 0.01, 0.05) for rho in rhos]
     if not quick:
-        cases += [(3.0, "shardlow", 0.01), (3.0, "vv", 0.04), (3.0, "shardlow", 0.04),
-                  (3.0, "dpd_vv", 0.04)]
-    for rho, integ, dt in cases:
-        key = f"rho{rho:g}_{integ}_dt{dt}"
+        cases += [(3.0, "shardlow", 0.01, 0.05), (3.0, "vv", 0.04, 0.05),
+                  (3.0, "shardlow", 0.04, 0.05), (3.0, "dpd_vv", 0.04, 0.05),
+                  # the force re-assigned every ~0.25 tau: 1 step in 25 (dt 0.01) or
+                  # 6 (dt 0.04) sees the recomputed forces (see eta_run)
+                  (3.0, "vv", 0.01, 0.25), (3.0, "vv", 0.04, 0.24), (3.0, "dpd_vv", 0.04, 0.24)]
+    for rho, integ, dt, upd_tau in cases:
+        key = f"rho{rho:g}_{integ}_dt{dt}" + ("" if upd_tau == 0.05 else f"_upd{upd_tau:g}")
         if store.has("eta", key):
             continue
         T = 40.0 if quick else (600.0 if (rho, integ, dt) == (3.0, "vv", 0.01)
                                      else (400.0 if dt == 0.01 else 500.0))
         log(f"[eta] {key}: box {box}, T = {T} tau ...")
-        r = eta_run(rho, integ, dt, T, box)
+        r = eta_run(rho, integ, dt, T, box, upd_tau=upd_tau)
         log(f"      eta = {r['eta']:.4f} +/- {r['eta_err']:.4f} (kT in the flow {r['kT_flow']:.4f},"
             f" v_max {r['v_max']:.2f}), {r['cpu_s']:.1f} CPU-s, cost to 1 %: {r['cost_1pct']:.0f} CPU-s")
         store.put("eta", key, r)
@@ -570,6 +607,8 @@ def plot_all(data, S, prefix):
             cv = S["D_converged"]
             ax[0].axhspan(cv["D_inf"] - cv["D_inf_err"], cv["D_inf"] + cv["D_inf_err"],
                           color="C1", alpha=0.2)
+            ax[0].plot(1 / Lg, [th.hasimoto_D(ETA_REF, cv["R_h"], L) for L in Lg], "k:", lw=1,
+                       label=f"Hasimoto stick, R_h = {cv['R_h']:.2f} (from D_inf)")
             if "free_fit" in cv:
                 ff = cv["free_fit"]
                 ax[0].plot(1 / Lg, ff["D_inf"] - ff["A"] / Lg + KT / (6 * np.pi * ETA_REF)
@@ -633,7 +672,7 @@ def plot_all(data, S, prefix):
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="~1 minute smoke run (own output files)")
+    ap.add_argument("--quick", action="store_true", help="~15 s smoke run (own output files)")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--part", default="kT,density,colloid,plot",
                     help="comma-separated sections: kT, density, colloid, plot")
