@@ -366,7 +366,9 @@ void bind_particles(py::class_<System> &cls) {
         recs[k] = ps.get(ids[k]); // else: on another rank; the row is still validated
       apply(s, recs[k], name, rows.data(k, 0));
     }
-    ps.clear_ghosts();
+    bool const keeps_lists = name == "ext_force" || name == "ext_torque" || name == "fix";
+    if (!keeps_lists)
+      ps.clear_ghosts();
     for (std::size_t k = 0; k < ids.size(); ++k) {
       int const i = ps.index_of(ids[k]);
       if (name == "type")
@@ -393,13 +395,24 @@ void bind_particles(py::class_<System> &cls) {
       else if (name == "omega_lab" || name == "omega_body") ps.omega[i] = p.omega;
 #endif
 #ifdef EXTERNAL_FORCE
-      else if (name == "ext_force") ps.ext_force[i] = p.ext_force;
-      else if (name == "fix") ps.fix[i] = p.fix;
+      // External force/torque: the stored force already holds the old value,
+      // so it is corrected in place; the pair forces, the Verlet list and the
+      // thermostat noise of the last step stay valid (re-setting ext_force
+      // between runs, e.g. in reverse Poiseuille, then changes nothing else).
+      else if (name == "ext_force") {
+        ps.f[i] += p.ext_force - ps.ext_force[i];
+        ps.ext_force[i] = p.ext_force;
+      } else if (name == "fix") ps.fix[i] = p.fix;
 #ifdef ROTATION
-      else if (name == "ext_torque") ps.ext_torque[i] = p.ext_torque;
+      else if (name == "ext_torque") {
+        ps.torque[i] += p.ext_torque - ps.ext_torque[i];
+        ps.ext_torque[i] = p.ext_torque;
+      }
 #endif
 #endif
     }
+    if (keeps_lists)
+      return; // no particle moved and no pair force changed
     s.on_particle_change();
   });
 
