@@ -79,21 +79,30 @@ NO_SLIP = dict(R=2.0, L=10.0, gamma=5.0, speed=0.12, t_prod=1500.0, seed=5)
 
 
 def test_drag_no_slip_hasimoto():
+    """Drag D of a no-slip marble against Hasimoto with the measured eta.
+
+    Compared at L -> infinity: Hasimoto's finite-size terms are the same for any
+    surface (reference.md section 5), so D_inf = D(L) + kT/(6 pi eta) (2.837297/L
+    - (4 pi/3) R^2/L^3), and D_inf / D_stokes = R (6 pi eta D(L) + 2.837297/L -
+    (4 pi/3) R^2/L^3). reference.md expects agreement "within ~3-5 %" (the
+    marble's hydrodynamic radius need not be exactly R); the tolerance is that
+    5 % plus 3 standard errors (from D and eta). Comparing D(L) itself would
+    amplify the same few-% radius offset ~2x at L = 5R (bench/speed_accuracy:
+    R_h = 1.900 +- 0.010 for R = 2). A perfectly slipping sphere gives ~1.5."""
     eta, eta_err = eta_measured()
     assert eta_err < 0.05, "viscosity run too short for a meaningful check"
     D, D_err = drag(**NO_SLIP)
     R, L = NO_SLIP["R"], NO_SLIP["L"]
     D_h = th.hasimoto_D(eta, R, L)
-    D_h_err = D_h * eta_err / eta                       # D ~ 1/eta
-    D_ref = th.hasimoto_D(ETA_REF, R, L)
-    print(f"\nno slip: D = {D:.5f} +- {D_err:.5f}; Hasimoto (eta = {eta:.3f} measured) "
-          f"{D_h:.5f} +- {D_h_err:.5f}; Hasimoto (eta = {ETA_REF}) {D_ref:.5f}; "
-          f"D/D_ref = {D / D_ref:.3f}")
+    fs = 2.837297 / L - 4.0 * np.pi / 3.0 * R**2 / L**3
+    ratio = R * (6.0 * np.pi * eta * D + fs)
+    ratio_err = 6.0 * np.pi * R * np.hypot(eta * D_err, D * eta_err)
+    print(f"\nno slip: D(L) = {D:.5f} +- {D_err:.5f}; Hasimoto stick (eta = {eta:.3f} +- "
+          f"{eta_err:.3f} measured) {D_h:.5f}; D_inf / D_stokes = {ratio:.3f} +- {ratio_err:.3f}")
     assert D_err < 0.035 * D, "drag run too short for a meaningful check"
-    assert abs(D - D_h) < 3 * np.hypot(D_err, D_h_err)
-    assert abs(D - D_ref) < max(0.05 * D_ref, 3 * D_err)
+    assert abs(ratio - 1.0) < 0.05 + 3.0 * ratio_err
     # clearly not the perfect-slip value
-    assert th.hasimoto_D(ETA_REF, R, L, boundary="slip") - D > 5 * D_err
+    assert th.hasimoto_D(eta, R, L, boundary="slip") - D > 5 * D_err
 
 
 def test_slippery_surface_diffuses_faster():
