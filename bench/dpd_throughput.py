@@ -14,7 +14,6 @@ is the single-core throughput, on an idle one the two agree.
 import argparse
 import json
 import os
-import platform
 import re
 import shutil
 import statistics
@@ -26,6 +25,8 @@ import time
 import numpy as np
 
 import marble
+
+from bench_common import machine_info
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -205,24 +206,6 @@ def median_rounds(fns, rounds):
                     median_wall=statistics.median(w for w, _ in v),
                     samples_cpu=[c for _, c in v], samples_wall=[w for w, _ in v])
             for k, v in samples.items()}
-
-
-def machine_info():
-    cpu = platform.processor()
-    try:
-        with open("/proc/cpuinfo") as f:
-            m = re.search(r"model name\s*:\s*(.*)", f.read())
-            cpu = m.group(1) if m else cpu
-    except OSError:
-        pass
-    try:
-        rev = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True).stdout.strip()
-    except OSError:
-        rev = ""
-    return dict(cpu=cpu, cores=os.cpu_count(), load_avg=list(os.getloadavg()),
-                python=platform.python_version(), marble_git=rev,
-                features=sorted(marble.features()), date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
 
 
 def tune_skin(case, dt, skins, L, rounds, steps):

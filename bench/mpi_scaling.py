@@ -15,7 +15,6 @@ and after. Writes bench/results/mpi_scaling.json and .png.
 import argparse
 import json
 import os
-import platform
 import shutil
 import statistics
 import subprocess
@@ -76,16 +75,12 @@ def main():
     if a.worker:
         worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3])
         return
-    import marble
     cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
     rounds = 2 if a.quick else 3
-    load0 = os.getloadavg()
-    res = dict(machine=dict(cpu=platform.processor() or platform.machine(), cores=os.cpu_count(),
-                            load_avg_before=load0, python=platform.python_version(),
-                            marble_git=subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
-                                                      capture_output=True, text=True).stdout.strip(),
-                            features=marble.features(), build_options=marble.build_options(),
-                            date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())),
+    from bench_common import machine_info
+    machine = machine_info()
+    machine["load_avg_before"] = machine.pop("load_avg")
+    res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
                launches=a.launches, rounds_per_launch=rounds, cases={})
     for L, steps in cases.items():

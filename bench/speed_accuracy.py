@@ -36,9 +36,6 @@ Writes DIR/speed_accuracy.json (resumable: cases already there are skipped,
 import argparse
 import json
 import os
-import platform
-import re
-import subprocess
 import sys
 import time
 
@@ -48,7 +45,9 @@ import marble
 from marble import diffusion as dif
 from marble import observables as obs
 from marble import theory as th
-from marble.colloid_runs import analyse_equilibrium, equilibrium_run, make_system
+from marble.colloid_runs import analyse_equilibrium, equilibrium_run, jsonable, make_system
+
+from bench_common import machine_info
 from marble.viscosity import block_average, reverse_poiseuille
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -70,41 +69,6 @@ def log(*a):
 
 def skin_for(dt):
     return 0.4 if dt <= 0.02 else (0.5 if dt <= 0.04 else 0.6)
-
-
-def machine_info():
-    cpu = platform.processor()
-    try:
-        with open("/proc/cpuinfo") as f:
-            m = re.search(r"model name\s*:\s*(.*)", f.read())
-            cpu = m.group(1) if m else cpu
-    except OSError:
-        pass
-    try:
-        rev = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True).stdout.strip()
-    except OSError:
-        rev = ""
-    return dict(cpu=cpu, cores=os.cpu_count(), load_avg=list(os.getloadavg()),
-                python=platform.python_version(), marble_git=rev,
-                features=sorted(marble.features()),
-                date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
-
-
-def jsonable(x):
-    if isinstance(x, dict):
-        return {str(k): jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        return None if not np.isfinite(x) else float(x)
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
 
 
 class Store:

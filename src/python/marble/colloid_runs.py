@@ -166,8 +166,9 @@ def analyse_equilibrium(eq, L, eta, paper=False, relative=True):
 
 
 def jsonable(x):
+    """numpy scalars/arrays -> plain JSON types; non-finite floats -> None."""
     if isinstance(x, dict):
-        return {k: jsonable(v) for k, v in x.items()}
+        return {str(k): jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
         return [jsonable(v) for v in x]
     if isinstance(x, np.ndarray):
@@ -176,6 +177,8 @@ def jsonable(x):
         return None if not np.isfinite(x) else float(x)
     if isinstance(x, np.integer):
         return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
     return x
 
 
