@@ -140,6 +140,19 @@ def scene_blowup():
     return s, dict(msg=np.array(msg), step=np.array(s.step))
 
 
+def scene_dpd_vv():
+    """DPD-VV (the friction pass needs the ghosts' velocity change and sends
+    the ghosts' friction back), with a marble."""
+    s = fluid(8.0, seed=4)
+    col = marble.colloids.add_marble(s, pos=[3.7, 4.0, 4.0], radius=2.0, gamma=5.0)
+    col.v = [0.2, 0.0, 0.1]
+    s.integrator.set_dpd_vv()
+    s.integrator.run(100)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, cpos=col.pos,
+                   comega=col.omega_lab)
+
+
 def scene_shardlow():
     s = fluid(4.0)
     s.integrator.set_shardlow()

@@ -146,6 +146,13 @@ def test_blowup_stops_every_rank_cleanly():
     assert int(res["step"]) == 10  # the refused step changed nothing; 10 more steps ran
 
 
+def test_dpd_vv_1_vs_2_ranks():
+    one, two = run("dpd_vv", 1), run("dpd_vv", 2)
+    assert_same_trajectory(one, two)
+    for key in ("cpos", "comega"):
+        np.testing.assert_allclose(two[key], one[key], rtol=0, atol=1e-9, err_msg=key)
+
+
 def test_shardlow_refused_on_two_ranks():
     msg = str(run("shardlow", 2)["msg"])
     assert "one MPI rank" in msg, msg

@@ -507,6 +507,48 @@ void CellSystem::reduce_ghost_forces(ParticleStore &ps) const {
     }
 }
 
+void CellSystem::fill_ghost_values(ParticleStore const &ps, std::vector<Vector3d> &x) const {
+  int const n_local = ps.n_local();
+  for (int g = n_local; g < ps.size(); ++g) {
+    int const o = ps.ghost_owner[g - n_local];
+    if (o < 0)
+      break;
+    x[g] = x[o];
+  }
+  if (!parallel())
+    return;
+  int const size = m_comm->size();
+  std::vector<std::vector<Vector3d>> send(size);
+  for (int q = 0; q < size; ++q)
+    for (auto const &e : m_send[q])
+      send[q].push_back(x[e.index]);
+  auto const recv = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (int k = 0; k < m_recv_count[q]; ++k)
+      x[m_recv_begin[q] + k] = recv[q][static_cast<std::size_t>(k)];
+}
+
+void CellSystem::reduce_ghost_values(ParticleStore const &ps, std::vector<Vector3d> &x) const {
+  int const n_local = ps.n_local();
+  for (int g = n_local; g < ps.size(); ++g) {
+    int const o = ps.ghost_owner[g - n_local];
+    if (o < 0)
+      break;
+    x[o] += x[g];
+  }
+  if (!parallel())
+    return;
+  int const size = m_comm->size();
+  std::vector<std::vector<Vector3d>> send(size);
+  for (int q = 0; q < size; ++q)
+    for (int k = 0; k < m_recv_count[q]; ++k)
+      send[q].push_back(x[m_recv_begin[q] + k]);
+  auto const back = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (std::size_t k = 0; k < m_send[q].size(); ++k)
+      x[m_send[q][k].index] += back[q][k];
+}
+
 bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {
   double const lim2 = 0.25 * m_skin * m_skin;
   bool exceeded = false;

@@ -48,6 +48,13 @@ public:
   void update_ghosts(ParticleStore &ps) const;
   /** Add ghost forces (and torques) to their owners. Collective. */
   void reduce_ghost_forces(ParticleStore &ps) const;
+  /** @p x has one entry per particle (locals and ghosts): fill the ghosts'
+   * entries from their owners' (periodic images locally, other ranks' via
+   * the ghost exchange). Collective. */
+  void fill_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
+  /** Add the ghosts' entries of @p x to their owners' (the reverse of
+   * fill_ghost_values). Collective. */
+  void reduce_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
   /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
 

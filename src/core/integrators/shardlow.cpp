@@ -152,7 +152,56 @@ void shardlow_sweep(System &sys) {
 }
 
 // F_i += friction of the velocity change dv (pairs of the main list only).
+namespace {
+// Several ranks: dv of the ghosts from the ghost exchange, the friction of
+// pairs with other ranks' particles accumulated per particle and sent back.
+void add_friction_of_dv_parallel(System &sys, std::vector<Vector3d> const &dv) {
+  auto &ps = sys.particles();
+  auto const &ia = sys.interactions();
+  int const n = ps.n_local();
+  std::vector<Vector3d> dva(static_cast<std::size_t>(ps.size())), df(dva.size());
+  std::copy(dv.begin(), dv.begin() + n, dva.begin());
+  sys.cells().fill_ghost_values(ps, dva);
+  for (auto const &pr : sys.cells().pairs()) {
+    int const i = pr[0], j = pr[1];
+    IAParams const &p = ia.get(ps.type[i], ps.type[j]);
+    if (!p.dpd.active)
+      continue;
+    Vector3d const d = ps.pos[i] - ps.pos[j];
+    double const r2 = d.norm2();
+    if (!(r2 < p.max_cut2) || !(r2 > 0.))
+      continue;
+    double const r = std::sqrt(r2);
+    double mfac = 1.;
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+    mfac = dpd_mass_factor(ps.get_mass(i), ps.get_mass(j));
+#endif
+    Vector3d const e = d / r;
+    Vector3d const v = dva[i] - dva[j];
+    double const ev = e * v;
+    Vector3d f{};
+    double const w = p.dpd.radial.weight(r);
+    if (w > 0.)
+      f = (-p.dpd.radial.gamma * mfac * w * w * ev) * e;
+#ifdef TRANS_DPD
+    double const wt = p.dpd.trans.weight(r);
+    if (wt > 0.)
+      f += (-p.dpd.trans.gamma * mfac * wt * wt) * (v - ev * e);
+#endif
+    df[i] += f;
+    df[j] -= f;
+  }
+  sys.cells().reduce_ghost_values(ps, df);
+  for (int i = 0; i < n; ++i)
+    ps.f[i] += df[i];
+}
+} // namespace
+
 void add_friction_of_dv(System &sys, std::vector<Vector3d> const &dv) {
+  if (sys.comm().parallel()) {
+    add_friction_of_dv_parallel(sys, dv);
+    return;
+  }
   auto &ps = sys.particles();
   auto const &ia = sys.interactions();
   for (auto const &pr : sys.cells().pairs()) {

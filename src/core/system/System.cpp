@@ -143,12 +143,11 @@ void System::check_scene_before_run() const {
     msg = "cannot integrate: " + msg;
 #endif
   m_comm.throw_if_any(msg);
-  if (m_comm.parallel() &&
-      (m_integrator == IntegratorKind::Shardlow || m_integrator == IntegratorKind::DPDVV))
+  if (m_comm.parallel() && m_integrator == IntegratorKind::Shardlow)
     throw Utils::RuntimeError(
-        "cannot integrate: the Shardlow and DPD-VV integrators run on one MPI rank only "
-        "(this run has " + std::to_string(m_comm.size()) +
-        "); use integrator.set_vv() or run without mpiexec");
+        "cannot integrate: the Shardlow integrator runs on one MPI rank only (its pair sweep "
+        "is sequential; this run has " + std::to_string(m_comm.size()) +
+        " ranks); use integrator.set_vv() or set_dpd_vv(), or run without mpiexec");
 }
 
 void System::ensure_lists() {
