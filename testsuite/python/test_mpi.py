@@ -26,6 +26,11 @@ pytestmark = [
 ]
 
 
+def needs(*features):
+    return pytest.mark.skipif(not marble.has_features(*features),
+                              reason=f"missing feature(s) {', '.join(features)}")
+
+
 def run(scene, ranks, **extra_env):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "out.npz")
@@ -51,6 +56,7 @@ def marble_runs():
     return {n: run("marble", n) for n in (1, 2)}
 
 
+@needs("MARBLE", "DPD")
 def test_marble_trajectory_1_vs_2_ranks(marble_runs):
     one, two = marble_runs[1], marble_runs[2]
     assert int(one["ranks"]) == 1 and int(two["ranks"]) == 2
@@ -61,12 +67,14 @@ def test_marble_trajectory_1_vs_2_ranks(marble_runs):
     assert abs(two["energy"] - one["energy"]) <= 1e-9 * abs(one["energy"])
 
 
+@needs("MARBLE", "DPD")
 def test_particles_cross_domain_boundaries(marble_runs):
     # in 100 steps of a DPD fluid (thermal speed ~ 1) many beads change rank
     assert int(marble_runs[2]["migrated"]) > 50
     np.testing.assert_allclose(marble_runs[2]["momentum"], marble_runs[1]["momentum"], atol=1e-9)
 
 
+@needs("MARBLE", "DPD")
 def test_marble_wider_than_a_domain():
     one, two, three = (run("marble_big", n) for n in (1, 2, 3))
     assert tuple(three["node_grid"]) == (3, 1, 1)
@@ -76,6 +84,7 @@ def test_marble_wider_than_a_domain():
             np.testing.assert_allclose(other[key], one[key], rtol=0, atol=1e-9, err_msg=key)
 
 
+@needs("LENNARD_JONES")
 def test_lj_energy_conserved_and_equal():
     one, two = run("lj", 1), run("lj", 2)
     assert_same_trajectory(one, two)
@@ -83,6 +92,7 @@ def test_lj_energy_conserved_and_equal():
     assert abs(two["pressure"] - one["pressure"]) < 1e-9 * abs(one["pressure"])
 
 
+@needs("TUNABLE_SLIP", "LENNARD_JONES", "EXTERNAL_FORCE", "DPD")
 def test_walls_channel():
     """Tunable-slip walls and a body force; the box is 4 x 4 x 8, so 2 ranks split z
     (the non-periodic axis): beads near a wall interact with it on their own rank."""
@@ -91,6 +101,7 @@ def test_walls_channel():
     assert_same_trajectory(one, two)
 
 
+@needs("DPD")
 def test_checkpoint_restart_on_two_ranks_bit_exact(tmp_path):
     """n steps + checkpoint + n steps == restart in a new 2-rank process + n steps,
     bit for bit (particles, forces, torques, correlator, mean/variance)."""
@@ -113,6 +124,7 @@ def test_io_on_two_ranks():
     assert p.stdout.count("passed") == 2, p.stdout
 
 
+@needs("DPD")
 def test_uncaught_exception_on_one_rank_aborts_all():
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
@@ -123,6 +135,7 @@ def test_uncaught_exception_on_one_rank_aborts_all():
     assert "raised on rank 1 only" in p.stderr
 
 
+@needs("MARBLE", "DPD")
 def test_sample_on_two_ranks():
     """A paper sample (colloid set-up, drag and equilibrium runs, correlators,
     JSON + PNG written by rank 0) runs under mpiexec -n 2 in its short test mode."""
@@ -137,6 +150,7 @@ def test_sample_on_two_ranks():
                                          "marble_diffusion_vs_gamma.png"]
 
 
+@needs("DPD")
 def test_blowup_stops_every_rank_cleanly():
     res = run("blowup", 2)
     msg = str(res["msg"])
@@ -146,6 +160,7 @@ def test_blowup_stops_every_rank_cleanly():
     assert int(res["step"]) == 10  # the refused step changed nothing; 10 more steps ran
 
 
+@needs("MARBLE", "DPD")
 def test_dpd_vv_1_vs_2_ranks():
     one, two = run("dpd_vv", 1), run("dpd_vv", 2)
     assert_same_trajectory(one, two)
@@ -153,11 +168,13 @@ def test_dpd_vv_1_vs_2_ranks():
         np.testing.assert_allclose(two[key], one[key], rtol=0, atol=1e-9, err_msg=key)
 
 
+@needs("DPD")
 def test_shardlow_refused_on_two_ranks():
     msg = str(run("shardlow", 2)["msg"])
     assert "one MPI rank" in msg, msg
 
 
+@needs("DPD")
 def test_temperature_statistically_equal():
     """Trajectories diverge over 1400 steps (chaos amplifies the round-off),
     but the mean kinetic temperature agrees within the statistical error."""
