@@ -156,8 +156,6 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
 
 void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   int const n = ps.n_local();
-  for (int i = 0; i < n; ++i)
-    box.fold(ps.pos[i], ps.image[i]);
   if (m_range <= 0.)
     return;
   auto const dom = local_domain(box);
@@ -416,11 +414,10 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
 void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut) {
   ps.clear_ghosts();
   m_range = max_cut > 0. ? max_cut + m_skin : 0.;
-  if (parallel()) {
-    for (int i = 0; i < ps.n_local(); ++i)
-      box.fold(ps.pos[i], ps.image[i]);
+  for (int i = 0; i < ps.n_local(); ++i)
+    box.fold(ps.pos[i], ps.image[i]);
+  if (parallel())
     migrate(ps, box);
-  }
   sort_locals(ps, box);
   for (int i = 0; i < ps.n_local(); ++i)
     ps.pos_at_rebuild[i] = ps.pos[i];
@@ -430,123 +427,118 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
   ++m_n_rebuilds;
 }
 
-void CellSystem::update_ghosts(ParticleStore &ps) const {
+// Own periodic images come first among the ghosts, other ranks' particles after them.
+template <typename F> void CellSystem::for_each_own_image(ParticleStore const &ps, F &&fn) const {
   int const n_local = ps.n_local();
   for (int g = n_local; g < ps.size(); ++g) {
     int const o = ps.ghost_owner[g - n_local];
     if (o < 0)
-      break; // other ranks' particles follow the own images
-    ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - n_local];
+      break;
+    fn(g, o);
+  }
+}
+
+// Owners -> other ranks' ghosts: pack(send entry) for each entry of m_send,
+// unpack(ghost index, value) on the receiving rank, in the same order.
+template <typename T, typename Pack, typename Unpack>
+void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  int const size = m_comm->size();
+  std::vector<std::vector<T>> send(size);
+  for (int q = 0; q < size; ++q) {
+    send[q].reserve(m_send[q].size());
+    for (auto const &e : m_send[q])
+      send[q].push_back(pack(e));
+  }
+  auto const recv = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (int k = 0; k < m_recv_count[q]; ++k)
+      unpack(m_recv_begin[q] + k, recv[q][static_cast<std::size_t>(k)]);
+}
+
+// The reverse: pack(ghost index) for the ghosts from each rank, unpack(local
+// index, value) on their owner.
+template <typename T, typename Pack, typename Unpack>
+void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  int const size = m_comm->size();
+  std::vector<std::vector<T>> send(size);
+  for (int q = 0; q < size; ++q) {
+    send[q].reserve(static_cast<std::size_t>(m_recv_count[q]));
+    for (int k = 0; k < m_recv_count[q]; ++k)
+      send[q].push_back(pack(m_recv_begin[q] + k));
+  }
+  auto const back = m_comm->alltoallv(send);
+  for (int q = 0; q < size; ++q)
+    for (std::size_t k = 0; k < m_send[q].size(); ++k)
+      unpack(m_send[q][k].index, back[q][k]);
+}
+
+void CellSystem::update_ghosts(ParticleStore &ps) const {
+  for_each_own_image(ps, [&](int g, int o) {
+    ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - ps.n_local()];
     ps.v[g] = ps.v[o];
 #ifdef ROTATION
     ps.omega[g] = ps.omega[o];
 #endif
-  }
+  });
   if (!parallel())
     return;
-  int const size = m_comm->size();
-  std::vector<std::vector<GhostUpdate>> send(size);
-  for (int q = 0; q < size; ++q) {
-    send[q].resize(m_send[q].size());
-    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
-      int const i = m_send[q][k].index;
-      auto &u = send[q][k];
-      u.pos = ps.pos[i] + m_send[q][k].shift;
-      u.v = ps.v[i];
+  to_remote_ghosts<GhostUpdate>(
+      [&](SendEntry const &e) {
+        GhostUpdate u;
+        u.pos = ps.pos[e.index] + e.shift;
+        u.v = ps.v[e.index];
 #ifdef ROTATION
-      u.omega = ps.omega[i];
+        u.omega = ps.omega[e.index];
 #endif
-    }
-  }
-  auto const recv = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      int const g = m_recv_begin[q] + k;
-      auto const &u = recv[q][static_cast<std::size_t>(k)];
-      ps.pos[g] = u.pos;
-      ps.v[g] = u.v;
+        return u;
+      },
+      [&](int g, GhostUpdate const &u) {
+        ps.pos[g] = u.pos;
+        ps.v[g] = u.v;
 #ifdef ROTATION
-      ps.omega[g] = u.omega;
+        ps.omega[g] = u.omega;
 #endif
-    }
+      });
 }
 
 void CellSystem::reduce_ghost_forces(ParticleStore &ps) const {
-  int const n_local = ps.n_local();
-  for (int g = n_local; g < ps.size(); ++g) {
-    int const o = ps.ghost_owner[g - n_local];
-    if (o < 0)
-      break;
+  for_each_own_image(ps, [&](int g, int o) {
     ps.f[o] += ps.f[g];
 #ifdef ROTATION
     ps.torque[o] += ps.torque[g];
 #endif
-  }
+  });
   if (!parallel())
     return;
-  int const size = m_comm->size();
-  std::vector<std::vector<GhostForce>> send(size);
-  for (int q = 0; q < size; ++q) {
-    send[q].resize(static_cast<std::size_t>(m_recv_count[q]));
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      int const g = m_recv_begin[q] + k;
-      send[q][k].f = ps.f[g];
+  from_remote_ghosts<GhostForce>(
+      [&](int g) {
+        GhostForce gf;
+        gf.f = ps.f[g];
 #ifdef ROTATION
-      send[q][k].torque = ps.torque[g];
+        gf.torque = ps.torque[g];
 #endif
-    }
-  }
-  auto const back = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
-      int const i = m_send[q][k].index;
-      ps.f[i] += back[q][k].f;
+        return gf;
+      },
+      [&](int i, GhostForce const &gf) {
+        ps.f[i] += gf.f;
 #ifdef ROTATION
-      ps.torque[i] += back[q][k].torque;
+        ps.torque[i] += gf.torque;
 #endif
-    }
+      });
 }
 
 void CellSystem::fill_ghost_values(ParticleStore const &ps, std::vector<Vector3d> &x) const {
-  int const n_local = ps.n_local();
-  for (int g = n_local; g < ps.size(); ++g) {
-    int const o = ps.ghost_owner[g - n_local];
-    if (o < 0)
-      break;
-    x[g] = x[o];
-  }
-  if (!parallel())
-    return;
-  int const size = m_comm->size();
-  std::vector<std::vector<Vector3d>> send(size);
-  for (int q = 0; q < size; ++q)
-    for (auto const &e : m_send[q])
-      send[q].push_back(x[e.index]);
-  auto const recv = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      x[m_recv_begin[q] + k] = recv[q][static_cast<std::size_t>(k)];
+  for_each_own_image(ps, [&](int g, int o) { x[g] = x[o]; });
+  if (parallel())
+    to_remote_ghosts<Vector3d>([&](SendEntry const &e) { return x[e.index]; },
+                               [&](int g, Vector3d const &v) { x[g] = v; });
 }
 
 void CellSystem::reduce_ghost_values(ParticleStore const &ps, std::vector<Vector3d> &x) const {
-  int const n_local = ps.n_local();
-  for (int g = n_local; g < ps.size(); ++g) {
-    int const o = ps.ghost_owner[g - n_local];
-    if (o < 0)
-      break;
-    x[o] += x[g];
-  }
-  if (!parallel())
-    return;
-  int const size = m_comm->size();
-  std::vector<std::vector<Vector3d>> send(size);
-  for (int q = 0; q < size; ++q)
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      send[q].push_back(x[m_recv_begin[q] + k]);
-  auto const back = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (std::size_t k = 0; k < m_send[q].size(); ++k)
-      x[m_send[q][k].index] += back[q][k];
+  for_each_own_image(ps, [&](int g, int o) { x[o] += x[g]; });
+  if (parallel())
+    from_remote_ghosts<Vector3d>([&](int g) { return x[g]; },
+                                 [&](int i, Vector3d const &v) { x[i] += v; });
 }
 
 bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {

@@ -132,6 +132,11 @@ private:
     Utils::Vector3d shift;
   };
   void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
+  template <typename F> void for_each_own_image(ParticleStore const &ps, F &&fn) const;
+  template <typename T, typename Pack, typename Unpack>
+  void to_remote_ghosts(Pack &&pack, Unpack &&unpack) const;
+  template <typename T, typename Pack, typename Unpack>
+  void from_remote_ghosts(Pack &&pack, Unpack &&unpack) const;
   void migrate(ParticleStore &ps, BoxGeometry const &box) const;
   bool replicated(int type) const {
     return type >= 0 && type < static_cast<int>(m_replicated.size()) && m_replicated[type];

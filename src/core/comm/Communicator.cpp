@@ -49,32 +49,35 @@ Communicator::Communicator() {
   }
 }
 
-void Communicator::sum_inplace(double *x, int n) const {
-  if (m_size > 1 && n > 0)
-    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, m_comm);
+namespace {
+template <typename T> MPI_Datatype mpi_type();
+template <> MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+template <> MPI_Datatype mpi_type<long long>() { return MPI_LONG_LONG; }
+template <> MPI_Datatype mpi_type<int>() { return MPI_INT; }
+
+// In-place allreduce of n values (nothing to do on one rank).
+template <typename T> void allreduce(MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
+  if (size > 1 && n > 0)
+    MPI_Allreduce(MPI_IN_PLACE, x, n, mpi_type<T>(), op, comm);
 }
-void Communicator::sum_inplace(long long *x, int n) const {
-  if (m_size > 1 && n > 0)
-    MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_LONG_LONG, MPI_SUM, m_comm);
-}
+} // namespace
+
+void Communicator::sum_inplace(double *x, int n) const { allreduce(m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_comm, m_size, x, n, MPI_SUM); }
 double Communicator::max(double x) const {
-  if (m_size > 1)
-    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, m_comm);
+  allreduce(m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 double Communicator::min(double x) const {
-  if (m_size > 1)
-    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, m_comm);
+  allreduce(m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 int Communicator::max(int x) const {
-  if (m_size > 1)
-    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT, MPI_MAX, m_comm);
+  allreduce(m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 int Communicator::min(int x) const {
-  if (m_size > 1)
-    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT, MPI_MIN, m_comm);
+  allreduce(m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {

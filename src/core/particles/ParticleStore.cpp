@@ -128,25 +128,14 @@ void ParticleStore::clear_ghosts() {
 }
 
 void ParticleStore::add_ghost(int owner, Utils::Vector3d const &shift) {
-  id.push_back(id[owner]);
-  type.push_back(type[owner]);
-  pos.push_back(pos[owner] + shift);
-  v.push_back(v[owner]);
-  f.push_back({});
-#ifdef MASS
-  mass.push_back(mass[owner]);
-#endif
-#ifdef ROTATION
-  omega.push_back(omega[owner]);
-  torque.push_back({});
-  rinertia.push_back(rinertia[owner]);
-  rotation.push_back(rotation[owner]);
-#endif
-  ghost_owner.push_back(owner);
-  ghost_shift.push_back(shift);
+  append_ghost(ghost_record(owner, shift), owner, shift);
 }
 
 void ParticleStore::add_remote_ghost(GhostRecord const &r, int marker) {
+  append_ghost(r, marker, Utils::Vector3d{});
+}
+
+void ParticleStore::append_ghost(GhostRecord const &r, int owner, Utils::Vector3d const &shift) {
   id.push_back(r.id);
   type.push_back(r.type);
   pos.push_back(r.pos);
@@ -161,8 +150,8 @@ void ParticleStore::add_remote_ghost(GhostRecord const &r, int marker) {
   rinertia.push_back(r.rinertia);
   rotation.push_back(r.rotation);
 #endif
-  ghost_owner.push_back(marker);
-  ghost_shift.push_back({});
+  ghost_owner.push_back(owner);
+  ghost_shift.push_back(shift);
 }
 
 GhostRecord ParticleStore::ghost_record(int i, Utils::Vector3d const &shift) const {

@@ -104,6 +104,7 @@ public:
   void permute_locals(std::vector<int> const &order);
 
 private:
+  void append_ghost(GhostRecord const &r, int owner, Utils::Vector3d const &shift);
   template <typename F> void for_each_array(F &&f);
   template <typename F> void for_each_local_array(F &&f);
   int m_n_local = 0;
