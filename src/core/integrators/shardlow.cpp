@@ -151,17 +151,15 @@ void shardlow_sweep(System &sys) {
   }
 }
 
-// F_i += friction of the velocity change dv (pairs of the main list only).
+// F_i += friction of the velocity change dv (pairs of the main list only):
+// the DPD pair force without noise (thermostats/dpd.hpp), with the relative
+// velocity change in place of the relative velocity. @p dv_of(k) gives the
+// velocity change of list index k, @p add(k, f) books the force on it.
 namespace {
-// Several ranks: dv of the ghosts from the ghost exchange, the friction of
-// pairs with other ranks' particles accumulated per particle and sent back.
-void add_friction_of_dv_parallel(System &sys, std::vector<Vector3d> const &dv) {
-  auto &ps = sys.particles();
+template <typename DV, typename Add> void friction_of_dv_pairs(System &sys, DV dv_of, Add add) {
+  auto const &ps = sys.particles();
   auto const &ia = sys.interactions();
-  int const n = ps.n_local();
-  std::vector<Vector3d> dva(static_cast<std::size_t>(ps.size())), df(dva.size());
-  std::copy(dv.begin(), dv.begin() + n, dva.begin());
-  sys.cells().fill_ghost_values(ps, dva);
+  Vector3d const no_noise{};
   for (auto const &pr : sys.cells().pairs()) {
     int const i = pr[0], j = pr[1];
     IAParams const &p = ia.get(ps.type[i], ps.type[j]);
@@ -171,69 +169,36 @@ void add_friction_of_dv_parallel(System &sys, std::vector<Vector3d> const &dv) {
     double const r2 = d.norm2();
     if (!(r2 < p.max_cut2) || !(r2 > 0.))
       continue;
-    double const r = std::sqrt(r2);
     double mfac = 1.;
 #if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-    mfac = dpd_mass_factor(ps.get_mass(i), ps.get_mass(j));
+    mfac = dpd_mass_factor(ps.get_mass(i), ps.get_mass(j)); // ghosts carry their owner's mass
 #endif
-    Vector3d const e = d / r;
-    Vector3d const v = dva[i] - dva[j];
-    double const ev = e * v;
-    Vector3d f{};
-    double const w = p.dpd.radial.weight(r);
-    if (w > 0.)
-      f = (-p.dpd.radial.gamma * mfac * w * w * ev) * e;
-#ifdef TRANS_DPD
-    double const wt = p.dpd.trans.weight(r);
-    if (wt > 0.)
-      f += (-p.dpd.trans.gamma * mfac * wt * wt) * (v - ev * e);
-#endif
-    df[i] += f;
-    df[j] -= f;
+    Vector3d const f = dpd_pair_force(p.dpd, d, std::sqrt(r2), dv_of(i) - dv_of(j), no_noise, mfac);
+    add(i, f);
+    add(j, -f);
   }
-  sys.cells().reduce_ghost_values(ps, df);
-  for (int i = 0; i < n; ++i)
-    ps.f[i] += df[i];
 }
 } // namespace
 
 void add_friction_of_dv(System &sys, std::vector<Vector3d> const &dv) {
-  if (sys.comm().parallel()) {
-    add_friction_of_dv_parallel(sys, dv);
+  auto &ps = sys.particles();
+  if (!sys.comm().parallel()) { // every ghost is an image of a local: book on the owner
+    friction_of_dv_pairs(
+        sys, [&](int k) { return dv[owner(ps, k)]; },
+        [&](int k, Vector3d const &f) { ps.f[owner(ps, k)] += f; });
     return;
   }
-  auto &ps = sys.particles();
-  auto const &ia = sys.interactions();
-  for (auto const &pr : sys.cells().pairs()) {
-    int const i = pr[0], j = pr[1];
-    IAParams const &p = ia.get(ps.type[i], ps.type[j]);
-    if (!p.dpd.active)
-      continue;
-    Vector3d const d = ps.pos[i] - ps.pos[j];
-    double const r2 = d.norm2();
-    if (!(r2 < p.max_cut2) || !(r2 > 0.))
-      continue;
-    double const r = std::sqrt(r2);
-    int const oi = owner(ps, i), oj = owner(ps, j);
-    double mfac = 1.;
-#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-    mfac = dpd_mass_factor(ps.get_mass(oi), ps.get_mass(oj));
-#endif
-    Vector3d const e = d / r;
-    Vector3d const v = dv[oi] - dv[oj];
-    double const ev = e * v;
-    Vector3d f{};
-    double const w = p.dpd.radial.weight(r);
-    if (w > 0.)
-      f = (-p.dpd.radial.gamma * mfac * w * w * ev) * e;
-#ifdef TRANS_DPD
-    double const wt = p.dpd.trans.weight(r);
-    if (wt > 0.)
-      f += (-p.dpd.trans.gamma * mfac * wt * wt) * (v - ev * e);
-#endif
-    ps.f[oi] += f;
-    ps.f[oj] -= f;
-  }
+  // Several ranks: dv of the ghosts from the ghost exchange, the friction on
+  // other ranks' particles accumulated per particle and sent back.
+  int const n = ps.n_local();
+  std::vector<Vector3d> dva(static_cast<std::size_t>(ps.size())), df(dva.size());
+  std::copy(dv.begin(), dv.begin() + n, dva.begin());
+  sys.cells().fill_ghost_values(ps, dva);
+  friction_of_dv_pairs(
+      sys, [&](int k) { return dva[k]; }, [&](int k, Vector3d const &f) { df[k] += f; });
+  sys.cells().reduce_ghost_values(ps, df);
+  for (int i = 0; i < n; ++i)
+    ps.f[i] += df[i];
 }
 #endif // DPD
 
