@@ -204,13 +204,8 @@ std::vector<int> global_ids(System const &s) {
 
 // IndexError naming the first id that no rank holds (collective).
 void check_exist_globally(System const &s, std::vector<int> const &ids) {
-  std::vector<double> found(ids.size(), 0.);
-  for (std::size_t k = 0; k < ids.size(); ++k)
-    found[k] = s.particles().exists(ids[k]) ? 1. : 0.;
-  s.comm().sum_inplace(found.data(), static_cast<int>(found.size()));
-  for (std::size_t k = 0; k < ids.size(); ++k)
-    if (found[k] != 1.)
-      throw py::index_error("particle " + std::to_string(ids[k]) + " does not exist");
+  if (auto const missing = s.first_missing_particle(ids))
+    throw py::index_error("particle " + std::to_string(*missing) + " does not exist");
 }
 
 } // namespace

@@ -9,15 +9,6 @@ namespace Marble::Observables {
 
 namespace {
 
-// Number of ranks holding each id (0 or 1; collective).
-std::vector<double> found_on_ranks(System const &system, std::vector<int> const &ids) {
-  std::vector<double> found(ids.size(), 0.);
-  for (std::size_t k = 0; k < ids.size(); ++k)
-    found[k] = (ids[k] >= 0 && system.particles().exists(ids[k])) ? 1. : 0.;
-  system.comm().sum_inplace(found.data(), static_cast<int>(found.size()));
-  return found;
-}
-
 void check_ids(System const &system, std::vector<int> const &ids) {
   if (ids.empty())
     throw std::invalid_argument("parameter 'ids' must name at least one particle");
@@ -25,32 +16,15 @@ void check_ids(System const &system, std::vector<int> const &ids) {
     if (pid < 0)
       throw std::invalid_argument("parameter 'ids': particle ids are >= 0, got " +
                                   std::to_string(pid));
-  auto const found = found_on_ranks(system, ids);
-  for (std::size_t k = 0; k < ids.size(); ++k)
-    if (found[k] != 1.)
-      throw std::out_of_range("parameter 'ids': particle " + std::to_string(ids[k]) +
-                              " does not exist");
-}
-
-int index_checked(System const &system, int pid) {
-  int const i = system.particles().index_of(pid);
-  if (i < 0)
-    throw std::out_of_range("observable: particle " + std::to_string(pid) +
-                            " does not exist (removed after the observable was created?)");
-  return i;
+  if (auto const missing = system.first_missing_particle(ids))
+    throw std::out_of_range("parameter 'ids': particle " + std::to_string(*missing) +
+                            " does not exist");
 }
 
 } // namespace
 
 PidObservable::PidObservable(System const &system, std::vector<int> ids) : m_ids(std::move(ids)) {
   check_ids(system, m_ids);
-}
-
-std::vector<int> PidObservable::indices(System const &system) const {
-  std::vector<int> idx(m_ids.size());
-  for (std::size_t k = 0; k < m_ids.size(); ++k)
-    idx[k] = index_checked(system, m_ids[k]);
-  return idx;
 }
 
 // Each rank fills the rows of its particles (zeros elsewhere), then a sum

@@ -38,8 +38,6 @@ public:
 protected:
   /** Row of particle at local index @p i. */
   virtual Utils::Vector3d row(System const &system, int i) const = 0;
-  /** Local index of every id (std::out_of_range if one is gone). */
-  std::vector<int> indices(System const &system) const;
 
 private:
   std::vector<int> m_ids;

@@ -204,6 +204,17 @@ Utils::Vector3d System::folded_position(int pid) const {
   return {buf[0], buf[1], buf[2]};
 }
 
+std::optional<int> System::first_missing_particle(std::vector<int> const &ids) const {
+  std::vector<double> found(ids.size(), 0.);
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    found[k] = m_ps.exists(ids[k]) ? 1. : 0.;
+  m_comm.sum_inplace(found.data(), static_cast<int>(found.size()));
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (found[k] != 1.)
+      return ids[k];
+  return std::nullopt;
+}
+
 int System::n_particles() const {
   return static_cast<int>(m_comm.sum(static_cast<long long>(m_ps.n_local())));
 }

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,8 @@ public:
   Utils::Vector3d folded_position(int pid) const;
   /** Number of particles on all ranks (collective). */
   int n_particles() const;
+  /** The first of @p ids that no rank holds, if any (collective). */
+  std::optional<int> first_missing_particle(std::vector<int> const &ids) const;
 
 #ifdef MARBLE
   Colloids const &colloids() const { return m_colloids; }
