@@ -21,10 +21,8 @@ import time
 
 import numpy as np
 
-import marble  # noqa: E402
-
 from marble.colloid_runs import (DT, KT, QUICK, analyse_equilibrium, common_args,  # noqa: E402
-                         drag_run, equilibrium_run, make_system, plot_setup, write_json)
+                         drag_run, equilibrium_run, make_system, plot_setup, save_figure, write_json)
 from marble import theory as th  # noqa: E402
 
 
@@ -123,10 +121,7 @@ def main():
     ax.set_ylabel(r"$D\ [\sigma^2/\tau]$")
     ax.set_title(f"marble R={R:g}, L={L:g}, eta={eta}, {len(seeds)} seeds", fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
-        fig.savefig(os.path.join(args.out, "marble_diffusion_vs_gamma.png"), dpi=120)
-    print(f"wrote {jpath} and marble_diffusion_vs_gamma.png")
+    save_figure(fig, args.out, "marble_diffusion_vs_gamma.png", jpath)
 
 
 if __name__ == "__main__":

@@ -22,10 +22,8 @@ import time
 
 import numpy as np
 
-import marble  # noqa: E402
-
 from marble.colloid_runs import (DT, KT, QUICK, common_args, drag_run, make_system,  # noqa: E402
-                         plot_setup, write_json)
+                         plot_setup, save_figure, write_json)
 from marble import theory as th  # noqa: E402
 
 
@@ -94,10 +92,7 @@ def main():
     ax.set_ylabel(r"$D\ [\sigma^2/\tau]$")
     ax.set_title(f"marble R={R:g}, gamma={args.gamma:g}, {t_prod:g} tau per point", fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
-        fig.savefig(os.path.join(args.out, "marble_hasimoto.png"), dpi=120)
-    print(f"wrote {jpath} and marble_hasimoto.png")
+    save_figure(fig, args.out, "marble_hasimoto.png", jpath)
 
 
 if __name__ == "__main__":

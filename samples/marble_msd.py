@@ -22,10 +22,8 @@ import time
 
 import numpy as np
 
-import marble  # noqa: E402
-
 from marble.colloid_runs import (DT, KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
-                         make_system, msd_window, plot_setup, rows, write_json)
+                         make_system, msd_window, plot_setup, rows, save_figure, write_json)
 from marble import diffusion as dif  # noqa: E402
 from marble import theory as th  # noqa: E402
 
@@ -95,10 +93,7 @@ def main():
     ax.set_title(f"marble R={R:g}, L={L:g}, gamma={args.gamma:g}, {len(M)}x{t_chunk:g} tau",
                  fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
-        fig.savefig(os.path.join(args.out, "marble_msd.png"), dpi=120)
-    print(f"wrote {jpath} and marble_msd.png")
+    save_figure(fig, args.out, "marble_msd.png", jpath)
 
 
 if __name__ == "__main__":

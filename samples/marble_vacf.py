@@ -36,7 +36,7 @@ from marble import theory as th
 from marble.colloids import add_marble
 
 from marble.colloid_runs import (  # noqa: F401  (the shared helpers)
-    KT, RHO, DT, GAMMA_DPD, QUICK, make_system, tau_box, gk_window, msd_window, Progress, equilibrium_run, drag_run, rows, analyse_equilibrium, jsonable, write_json, common_args, plot_setup)
+    KT, RHO, DT, GAMMA_DPD, QUICK, make_system, tau_box, gk_window, msd_window, Progress, equilibrium_run, drag_run, rows, analyse_equilibrium, jsonable, write_json, common_args, plot_setup, save_figure)
 
 
 # ---------------------------------------------------------------- Fig. 2
@@ -122,10 +122,7 @@ def main():
         ax.legend(fontsize=8)
     axes[0].set_title(f"marble R={R:g}, L={L:g}, gamma={args.gamma:g}, "
                       f"{len(V)}x{t_chunk:g} tau", fontsize=9)
-    fig.tight_layout()
-    if marble.mpi_rank() == 0:  # every rank runs the script (MPI): one writes
-        fig.savefig(os.path.join(args.out, "marble_vacf.png"), dpi=120)
-    print(f"wrote {jpath} and marble_vacf.png")
+    save_figure(fig, args.out, "marble_vacf.png", jpath)
 
 
 if __name__ == "__main__":

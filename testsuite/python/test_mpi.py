@@ -31,11 +31,16 @@ def needs(*features):
                               reason=f"missing feature(s) {', '.join(features)}")
 
 
+def mpi_env(**extra):
+    """Environment for mpiexec: allowed as root (CI), more ranks than cores."""
+    return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                OMPI_MCA_rmaps_base_oversubscribe="1", **extra)
+
+
 def run(scene, ranks, **extra_env):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "out.npz")
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                   OMPI_MCA_rmaps_base_oversubscribe="1", **extra_env)
+        env = mpi_env(**extra_env)
         cmd = [MPIEXEC, "-n", str(ranks), sys.executable, SCENES, scene, out]
         p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
         assert p.returncode == 0, f"{' '.join(cmd)} failed:\n{p.stdout}\n{p.stderr}"
@@ -114,8 +119,7 @@ def test_checkpoint_restart_on_two_ranks_bit_exact(tmp_path):
 def test_io_on_two_ranks():
     """test_io_mpi.py (H5MD rows gathered from both ranks' locals, in-process
     checkpoint continuation) under mpiexec -n 2."""
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = mpi_env()
     with tempfile.TemporaryDirectory() as d:
         cmd = [MPIEXEC, "-n", "2", sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                os.path.join(HERE, "test_io_mpi.py")]
@@ -126,8 +130,7 @@ def test_io_on_two_ranks():
 
 @needs("DPD")
 def test_uncaught_exception_on_one_rank_aborts_all():
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = mpi_env()
     with tempfile.TemporaryDirectory() as d:
         cmd = [MPIEXEC, "-n", "2", sys.executable, SCENES, "uncaught", os.path.join(d, "o.npz")]
         p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
@@ -139,8 +142,7 @@ def test_uncaught_exception_on_one_rank_aborts_all():
 def test_sample_on_two_ranks():
     """A paper sample (colloid set-up, drag and equilibrium runs, correlators,
     JSON + PNG written by rank 0) runs under mpiexec -n 2 in its short test mode."""
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1", MARBLE_SAMPLE_TEST="1", MPLBACKEND="Agg")
+    env = mpi_env(MARBLE_SAMPLE_TEST="1", MPLBACKEND="Agg")
     sample = os.path.join(HERE, "..", "..", "samples", "marble_diffusion_vs_gamma.py")
     with tempfile.TemporaryDirectory() as d:
         cmd = [MPIEXEC, "-n", "2", sys.executable, sample, "--out", d]

@@ -205,6 +205,15 @@ def common_args(description, default_time, paper_time):
     return p
 
 
+def save_figure(fig, out_dir, name, json_path):
+    """Lay out @p fig and write it as out_dir/name (under MPI rank 0 writes,
+    like write_json); report it with the JSON file."""
+    fig.tight_layout()
+    if _marble.mpi_rank() == 0:
+        fig.savefig(os.path.join(out_dir, name), dpi=120)
+    print(f"wrote {json_path} and {name}")
+
+
 def plot_setup():
     import matplotlib
     matplotlib.use("Agg")
