@@ -69,7 +69,7 @@ Vector3d folded(BoxGeometry const &box, Vector3d p) {
 } // namespace
 
 void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, InteractionTable const &ia,
-                             WallNoise const &noise, std::uint64_t step) {
+                             NoiseContext const &noise, std::uint64_t step) {
   int const nt = ia.n_types();
   for (auto &w : m_walls) {
     w.total_force = {};

@@ -16,6 +16,7 @@
 #include "box/BoxGeometry.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
+#include "thermostats/NoiseContext.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -38,11 +39,6 @@ struct Wall {
   double energy = 0.;
 };
 
-struct WallNoise {
-  bool on = false;
-  std::uint64_t seed = 0, counter = 0;
-};
-
 class Constraints {
   friend struct CheckpointAccess; // io/checkpoint.cpp
 
@@ -62,7 +58,7 @@ public:
 
   /** Add wall forces; throws Utils::RuntimeError on a wall penetration. */
   void add_forces(ParticleStore &ps, BoxGeometry const &box, InteractionTable const &ia,
-                  WallNoise const &noise, std::uint64_t step);
+                  NoiseContext const &noise, std::uint64_t step);
   /** Conservative wall energy of the current configuration. */
   double energy(ParticleStore const &ps, BoxGeometry const &box, InteractionTable const &ia) const;
 

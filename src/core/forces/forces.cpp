@@ -16,11 +16,6 @@ using Utils::Vector3d;
 
 namespace {
 
-struct ThermoContext {
-  bool on = false;
-  std::uint64_t seed = 0, counter = 0;
-};
-
 // Per-type-pair data the loop needs for every listed pair, in small dense
 // tables (the full IAParams is only read for pairs within range).
 struct PairTables {
@@ -56,7 +51,7 @@ constexpr int kBlock = 512;
 
 template <bool LJ_ON, bool HAT_ON, bool DPD_ON>
 void pair_loop(ParticleStore &ps, std::vector<std::array<int, 2>> const &pairs,
-               InteractionTable const &ia, ThermoContext const &th) {
+               InteractionTable const &ia, NoiseContext const &th) {
   (void)th;
   auto const *const pos = ps.pos.data();
   [[maybe_unused]] auto const *const vel = ps.v.data();
@@ -142,7 +137,7 @@ void pair_loop(ParticleStore &ps, std::vector<std::array<int, 2>> const &pairs,
 }
 
 using LoopFn = void (*)(ParticleStore &, std::vector<std::array<int, 2>> const &,
-                        InteractionTable const &, ThermoContext const &);
+                        InteractionTable const &, NoiseContext const &);
 
 template <int Mask> constexpr LoopFn loop_for() {
   return &pair_loop<(Mask & 1) != 0, (Mask & 2) != 0, (Mask & 4) != 0>;
@@ -162,14 +157,7 @@ void System::compute_forces(bool with_thermostat) {
     t = {};
 #endif
   KernelMask const k = m_ia.kernels();
-  ThermoContext th;
-#ifdef DPD
-  th.on = with_thermostat && m_thermo.dpd.active;
-  th.seed = m_thermo.dpd.seed;
-  th.counter = m_thermo.dpd.philox_counter;
-#else
-  (void)with_thermostat;
-#endif
+  NoiseContext const th = noise_context(with_thermostat);
   int const mask =
       (k.lj ? 1 : 0) | (k.hat ? 2 : 0) | ((k.dpd && th.on && m_dpd_in_pair_loop) ? 4 : 0);
   loops[mask](m_ps, m_cells.pairs(), m_ia, th);

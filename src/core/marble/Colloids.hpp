@@ -13,17 +13,13 @@
 #include "marble/marble_kernel.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
+#include "thermostats/NoiseContext.hpp"
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace Marble {
-
-struct NoiseContext {
-  bool on = false;
-  std::uint64_t seed = 0, counter = 0;
-};
 
 class Colloids {
   friend struct CheckpointAccess; // io/checkpoint.cpp

@@ -117,22 +117,21 @@ void System::set_marble(int c, int s, MarbleParams const &p) {
 void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 #ifdef MARBLE
   if (m_colloids.any()) {
-    NoiseContext noise;
-    noise.on = with_thermostat && m_thermo.dpd.active;
-    noise.seed = m_thermo.dpd.seed;
-    noise.counter = m_thermo.dpd.philox_counter;
-    m_colloids.add_forces(m_ps, m_ia, noise);
+    m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat));
   }
 #endif
-  if (!m_constraints.empty()) {
-    WallNoise noise;
+  if (!m_constraints.empty())
+    m_constraints.add_forces(m_ps, m_box, m_ia, noise_context(with_thermostat), m_step);
+}
+
+NoiseContext System::noise_context([[maybe_unused]] bool with_thermostat) const {
+  NoiseContext n;
 #ifdef DPD
-    noise.on = with_thermostat && m_thermo.dpd.active;
-    noise.seed = m_thermo.dpd.seed;
-    noise.counter = m_thermo.dpd.philox_counter;
+  n.on = with_thermostat && m_thermo.dpd.active;
+  n.seed = m_thermo.dpd.seed;
+  n.counter = m_thermo.dpd.philox_counter;
 #endif
-    m_constraints.add_forces(m_ps, m_box, m_ia, noise, m_step);
-  }
+  return n;
 }
 
 void System::check_scene_before_run() const {

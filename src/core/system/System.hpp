@@ -167,6 +167,9 @@ public:
   /** Forces beyond the main pair loop (colloid pairs, constraints); called
    * by compute_forces() after the pair loop. */
   void add_extra_forces(bool with_thermostat);
+  /** The thermostat noise of this step for the force kernels (off without DPD
+   * or when @p with_thermostat is false). */
+  NoiseContext noise_context(bool with_thermostat) const;
   /** Throws Utils::RuntimeError if the scene cannot be integrated. */
   void check_scene_before_run() const;
 
