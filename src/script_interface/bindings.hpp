@@ -6,12 +6,16 @@
 namespace ScriptInterface {
 namespace py = pybind11;
 using namespace pybind11::literals;
-void bind_particles(py::class_<Marble::System> &cls);
-void bind_interactions(py::class_<Marble::System> &cls);
-void bind_system(py::class_<Marble::System> &cls);
-void bind_marble(py::class_<Marble::System> &cls);
-void bind_constraints(py::class_<Marble::System> &cls);
-void bind_integrators(py::class_<Marble::System> &cls); // integrators.cpp
-void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls);
-void bind_io(py::module_ &m, py::class_<Marble::System> &cls); // io.cpp
+// One file per Python module of the marble package (file name = module name).
+void bind_system(py::class_<Marble::System> &cls);        // system.cpp
+void bind_cell_system(py::class_<Marble::System> &cls);   // cell_system.cpp
+void bind_particle_data(py::class_<Marble::System> &cls); // particle_data.cpp
+void bind_interactions(py::class_<Marble::System> &cls);  // interactions.cpp
+void bind_marble(py::class_<Marble::System> &cls);        // marble.cpp
+void bind_constraints(py::class_<Marble::System> &cls);   // constraints.cpp
+void bind_thermostat(py::class_<Marble::System> &cls);    // thermostat.cpp
+void bind_integrate(py::class_<Marble::System> &cls);     // integrate.cpp
+void bind_analysis(py::class_<Marble::System> &cls);      // analysis.cpp
+void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls); // accumulators.cpp
+void bind_io(py::module_ &m, py::class_<Marble::System> &cls);           // io.cpp
 } // namespace ScriptInterface

@@ -1,5 +1,5 @@
-// Script interface of constraints (walls), tunable-slip wall friction and
-// box periodicity.
+// Script interface of constraints (marble.constraints): walls and the
+// tunable-slip wall friction.
 #include "script_interface/bindings.hpp"
 #include "script_interface/params.hpp"
 
@@ -14,15 +14,6 @@ using Marble::System;
 using Utils::Vector3d;
 
 void bind_constraints(py::class_<System> &cls) {
-  cls.def("set_periodicity", [](System &s, std::vector<bool> const &p) {
-    if (p.size() != 3)
-      value_error("parameter 'periodicity' must be 3 bools");
-    for (int d = 0; d < 3; ++d)
-      s.set_periodic(d, p[d]);
-  });
-  cls.def("get_periodicity", [](System &s) {
-    return std::vector<bool>{s.box().periodic(0), s.box().periodic(1), s.box().periodic(2)};
-  });
   cls.def("add_wall", [](System &s, py::object normal, py::object dist, py::object type, py::object velocity) {
     Marble::Wall w;
     Vector3d n = to_vec3("normal", normal);

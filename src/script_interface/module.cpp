@@ -11,10 +11,6 @@
 #include <string>
 #include <vector>
 
-namespace ScriptInterface {
-void bind_dpd(pybind11::class_<Marble::System> &cls); // dpd.cpp
-}
-
 namespace {
 std::vector<std::string> split(std::string const &s) {
   std::istringstream in(s);
@@ -65,12 +61,14 @@ PYBIND11_MODULE(_marble, m) {
 
   py::class_<Marble::System> cls(m, "System");
   ScriptInterface::bind_system(cls);
-  ScriptInterface::bind_particles(cls);
+  ScriptInterface::bind_cell_system(cls);
+  ScriptInterface::bind_particle_data(cls);
   ScriptInterface::bind_interactions(cls);
   ScriptInterface::bind_marble(cls);
   ScriptInterface::bind_constraints(cls);
-  ScriptInterface::bind_dpd(cls);
-  ScriptInterface::bind_integrators(cls);
+  ScriptInterface::bind_thermostat(cls);
+  ScriptInterface::bind_integrate(cls);
+  ScriptInterface::bind_analysis(cls);
   ScriptInterface::bind_accumulators(m, cls);
   ScriptInterface::bind_io(m, cls);
 }

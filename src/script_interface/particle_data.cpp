@@ -210,7 +210,7 @@ void check_exist_globally(System const &s, std::vector<int> const &ids) {
 
 } // namespace
 
-void bind_particles(py::class_<System> &cls) {
+void bind_particle_data(py::class_<System> &cls) {
   // SPMD: every rank calls these with the same arguments; reads gather over the ranks.
   cls.def("n_part", [](System const &s) { return s.n_particles(); });
   cls.def("particle_ids", [](System const &s) { return global_ids(s); });

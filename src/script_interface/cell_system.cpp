@@ -1,0 +1,54 @@
+// Script interface of the cell system (marble.cell_system): skin, Verlet
+// lists, domain decomposition.
+#include "script_interface/bindings.hpp"
+#include "script_interface/params.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+
+namespace ScriptInterface {
+
+using Marble::System;
+using Utils::Vector3d;
+
+void bind_cell_system(py::class_<System> &cls) {
+  cls.def_property(
+      "skin", [](System const &s) { return s.skin(); },
+      [](System &s, py::object v) {
+        // > 0: a step that moves a particle farther than the skin is refused
+        // as a blow-up (integrate.cpp), so a zero skin could never integrate.
+        double const skin = check_double("skin", to_double("skin", v), 0., INFINITY, true);
+        double const lmin = std::min({s.box().length()[0], s.box().length()[1], s.box().length()[2]});
+        if (skin > 0.5 * lmin)
+          value_error("parameter 'skin' must be in (0, box_l/2], got " + Utils::to_str(skin));
+        s.set_skin(skin);
+      });
+  cls.def("n_rebuilds", [](System &s) { return s.cells().n_rebuilds(); });
+  cls.def("node_grid", [](System &s) { return s.cells().node_grid(s.box()); });
+  cls.def("local_domain", [](System &s) {
+    auto const d = s.cells().local_domain(s.box());
+    return std::make_pair(vec_to_array(d.first), vec_to_array(d.second));
+  });
+  // ids this rank owns (not collective; for tests and diagnostics)
+  cls.def("local_ids", [](System &s) { return s.particles().ids_sorted(); });
+  cls.def("n_cells", [](System &s) { return s.cells().n_cells(); });
+  cls.def("max_cut", &System::max_cutoff);
+  cls.def("verlet_pairs", [](System &s) {
+    s.ensure_lists();
+    auto const &ps = s.particles();
+    std::vector<std::pair<int, int>> out;
+    std::vector<std::array<int, 2>> loc;
+    for (auto const &p : s.cells().pairs()) {
+      int a = ps.id[p[0]], b = ps.id[p[1]];
+      loc.push_back({std::min(a, b), std::max(a, b)});
+    }
+    for (auto const &p : s.comm().allgatherv(loc)) // every pair is listed on one rank
+      out.emplace_back(p[0], p[1]);
+    return out;
+  });
+
+}
+
+} // namespace ScriptInterface
