@@ -2,7 +2,8 @@
 """Resolve Marble's compile-time features.
 
 Reads src/config/features.def (NAME [implies A, B] [requires not C]) and a
-myconfig header (lines '#define NAME'), closes the set under 'implies',
+myconfig header (lines '#define NAME'; '#define MARBLE_ALL_FEATURES' takes every
+feature, later '#undef NAME' lines drop some), closes the set under 'implies',
 checks 'requires not', and writes
   <out>/config/features.hpp   (#define NAME for every active feature)
   <out>/features_list.txt      (all known features, then the active ones)
@@ -37,6 +38,9 @@ def parse_myconfig(path, feats):
     chosen = []
     for lineno, raw in enumerate(open(path), 1):
         m = re.match(r"\s*#\s*define\s+([A-Za-z_][A-Za-z0-9_]*)", raw)
+        if m and m.group(1) == "MARBLE_ALL_FEATURES":  # every known feature (then #undef some)
+            chosen += [f for f in feats if f not in chosen]
+            continue
         if m:
             name = m.group(1)
             if name not in feats:

@@ -1,11 +1,4 @@
-/* Everything that can be on at once (DPD_MASS_LIN excludes DPD_MASS_RED). */
-#define ROTATION
-#define MASS
-#define EXTERNAL_FORCE
-#define LENNARD_JONES
-#define HAT
-#define DPD
-#define TRANS_DPD
-#define DPD_MASS_RED
-#define MARBLE
-#define TUNABLE_SLIP
+/* Everything that can be on at once: every feature of features.def (new ones
+ * included automatically) except DPD_MASS_LIN, which excludes DPD_MASS_RED. */
+#define MARBLE_ALL_FEATURES
+#undef DPD_MASS_LIN

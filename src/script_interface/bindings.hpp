@@ -11,7 +11,7 @@ void bind_system(py::class_<Marble::System> &cls);        // system.cpp
 void bind_cell_system(py::class_<Marble::System> &cls);   // cell_system.cpp
 void bind_particle_data(py::class_<Marble::System> &cls); // particle_data.cpp
 void bind_interactions(py::class_<Marble::System> &cls);  // interactions.cpp
-void bind_marble(py::class_<Marble::System> &cls);        // marble.cpp
+void bind_colloids(py::class_<Marble::System> &cls);      // colloids.cpp
 void bind_constraints(py::class_<Marble::System> &cls);   // constraints.cpp
 void bind_thermostat(py::class_<Marble::System> &cls);    // thermostat.cpp
 void bind_integrate(py::class_<Marble::System> &cls);     // integrate.cpp

@@ -1,5 +1,5 @@
-// Script interface of constraints (marble.constraints): walls and the
-// tunable-slip wall friction.
+// Script interface of constraints (marble.constraints): walls. Their
+// tunable-slip friction is a kernel (non_bonded_inter[wall, fluid].tunable_slip).
 #include "script_interface/bindings.hpp"
 #include "script_interface/params.hpp"
 
@@ -56,52 +56,6 @@ void bind_constraints(py::class_<System> &cls) {
     d["velocity"] = arr(w->velocity);
     d["total_force"] = arr(w->total_force);
     return d;
-  });
-  cls.def("set_tunable_slip", [](System &s, int wt, int ft, py::dict kw) {
-#ifdef TUNABLE_SLIP
-    check_keys("tunable_slip", kw, {"gamma", "r_cut", "offset"});
-    for (auto key : {"gamma", "r_cut"})
-      if (!kw.contains(key))
-        value_error(std::string("parameter '") + key + "' is required for tunable_slip");
-    for (int t : {wt, ft})
-      if (t < 0 || t >= Marble::InteractionTable::max_type)
-        value_error("particle type must be an integer in [0, 256), got " + std::to_string(t));
-    Marble::TunableSlipParams p;
-    p.gamma = check_double("gamma", to_double("gamma", kw["gamma"]), 0., INFINITY);
-    p.r_cut = check_double("r_cut", to_double("r_cut", kw["r_cut"]), 0., 1e6, true);
-    if (kw.contains("offset"))
-      p.offset = check_double("offset", to_double("offset", kw["offset"]), 0., 1e6);
-    p.active = true;
-    s.constraints().set_tunable_slip(wt, ft, p);
-    s.on_constraints_change();
-#else
-    (void)s, (void)wt, (void)ft, (void)kw;
-    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
-#endif
-  });
-  cls.def("get_tunable_slip", [](System &s, int wt, int ft) {
-    py::dict d;
-#ifdef TUNABLE_SLIP
-    auto const &p = s.constraints().tunable_slip(wt, ft);
-    if (p.active) {
-      d["gamma"] = p.gamma;
-      d["r_cut"] = p.r_cut;
-      d["offset"] = p.offset;
-    }
-#else
-    (void)s, (void)wt, (void)ft;
-    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
-#endif
-    return d;
-  });
-  cls.def("deactivate_tunable_slip", [](System &s, int wt, int ft) {
-#ifdef TUNABLE_SLIP
-    s.constraints().set_tunable_slip(wt, ft, Marble::TunableSlipParams{});
-    s.on_constraints_change();
-#else
-    (void)s, (void)wt, (void)ft;
-    throw Utils::FeaturesError("TUNABLE_SLIP", "tunable_slip");
-#endif
   });
 }
 

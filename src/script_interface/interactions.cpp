@@ -1,28 +1,21 @@
-// Script interface of the non-bonded interactions, one named kind per kernel:
-// set_params validates every key (ValueError naming the parameter and range),
-// get_params returns what is stored, deactivate switches the kernel off.
+// Script interface of the non-bonded interactions (marble.interactions): one
+// generic set / get / deactivate for every kernel of the kernel list
+// (nonbonded/kernel_list.hpp), driven by the kernels' field lists, and the
+// list itself, from which the Python classes are generated.
 #include "script_interface/bindings.hpp"
 #include "script_interface/params.hpp"
 
+#include "nonbonded/registry.hpp"
+
 #include <pybind11/stl.h>
 
-#include <cmath>
+#include <string>
 
 namespace ScriptInterface {
 
-using Marble::IAParams;
 using Marble::System;
 
 namespace {
-
-double get_num(py::dict const &kw, char const *key, double dflt) {
-  return kw.contains(key) ? to_double(key, kw[key]) : dflt;
-}
-void require(py::dict const &kw, std::string const &what, std::vector<char const *> const &keys) {
-  for (auto k : keys)
-    if (!kw.contains(k))
-      value_error("parameter '" + std::string(k) + "' is required for " + what);
-}
 
 void check_types(int i, int j) {
   for (int t : {i, j})
@@ -31,161 +24,163 @@ void check_types(int i, int j) {
                   std::to_string(Marble::InteractionTable::max_type) + "), got " + std::to_string(t));
 }
 
-#ifdef LENNARD_JONES
-void set_lj(IAParams &p, py::dict const &kw) {
-  check_keys("lennard_jones", kw, {"epsilon", "sigma", "cutoff", "shift", "offset", "min"});
-  require(kw, "lennard_jones", {"epsilon", "sigma", "cutoff"});
-  Marble::LennardJonesParams lj;
-  lj.epsilon = check_double("epsilon", get_num(kw, "epsilon", 0.), 0., INFINITY);
-  lj.sigma = check_double("sigma", get_num(kw, "sigma", 0.), 0., INFINITY, true);
-  lj.cutoff = check_double("cutoff", get_num(kw, "cutoff", 0.), 0., INFINITY, true);
-  lj.offset = check_double("offset", get_num(kw, "offset", 0.), 0., INFINITY);
-  lj.min = check_double("min", get_num(kw, "min", 0.), 0., lj.cutoff, false, true);
-  if (kw.contains("shift") && py::isinstance<py::str>(kw["shift"])) {
-    if (kw["shift"].cast<std::string>() != "auto")
-      value_error("parameter 'shift' must be a number or \"auto\"");
-    lj.shift = Marble::LennardJonesParams::auto_shift(lj.sigma, lj.cutoff);
+/** A Python value as handed to the core's field validation. */
+Marble::FieldValue field_value(py::handle h) {
+  Marble::FieldValue v;
+  std::string const type_name = py::str(py::type::of(h).attr("__name__"));
+  if (py::isinstance<py::str>(h)) {
+    v.kind = Marble::FieldValue::Kind::text;
+    v.text = h.cast<std::string>();
+  } else if (h.is_none() || py::isinstance<py::bool_>(h)) {
+    v.kind = Marble::FieldValue::Kind::other;
+    v.text = type_name;
   } else {
-    lj.shift = check_double("shift", get_num(kw, "shift", 0.));
+    try {
+      v.number = py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
+    } catch (py::error_already_set &) {
+      v.kind = Marble::FieldValue::Kind::other;
+      v.text = type_name;
+    }
   }
-  lj.active = lj.epsilon > 0.;
-  p.lj = lj;
+  return v;
 }
-py::dict get_lj(IAParams const &p) {
-  return py::dict("epsilon"_a = p.lj.epsilon, "sigma"_a = p.lj.sigma, "cutoff"_a = p.lj.cutoff,
-                  "shift"_a = p.lj.shift, "offset"_a = p.lj.offset, "min"_a = p.lj.min);
-}
-#endif
 
-#ifdef HAT
-void set_hat(IAParams &p, py::dict const &kw) {
-  check_keys("hat", kw, {"F_max", "cutoff"});
-  require(kw, "hat", {"F_max", "cutoff"});
-  Marble::HatParams h;
-  h.F_max = check_double("F_max", get_num(kw, "F_max", 0.), 0., INFINITY);
-  h.cutoff = check_double("cutoff", get_num(kw, "cutoff", 0.), 0., INFINITY, true);
-  h.active = h.F_max > 0.;
-  p.hat = h;
+Marble::FieldValues field_values(py::dict const &kw) {
+  Marble::FieldValues out;
+  for (auto const &item : kw)
+    out.emplace_back(py::str(item.first).cast<std::string>(), field_value(item.second));
+  return out;
 }
-py::dict get_hat(IAParams const &p) { return py::dict("F_max"_a = p.hat.F_max, "cutoff"_a = p.hat.cutoff); }
-#endif
 
-#ifdef DPD
-Marble::DPDWeight read_weight(py::dict const &kw, std::string const &prefix) {
-  Marble::DPDWeight w;
-  auto key = [&](char const *k) { return prefix + k; };
-  auto wf = key("weight_function");
-  if (kw.contains(wf.c_str())) {
-    long long const v = to_int(wf, kw[wf.c_str()]);
-    if (v != 0 && v != 1)
-      value_error("parameter '" + wf + "' must be 0 (w = 1) or 1 (w = 1 - (r/r_cut)^k), got " +
-                  std::to_string(v));
-    w.weight_function = static_cast<int>(v);
+/** Call fn.template operator()<K>() for the kernel named @p name (compiled
+ * or not); ValueError for an unknown name. */
+template <class Fn> void with_kernel(std::string const &name, Fn &&fn) {
+  bool found = false;
+  Marble::for_each_kernel<Marble::AllKernels>([&]<class K>() {
+    if (!found && name == K::name) {
+      found = true;
+      fn.template operator()<K>();
+    }
+  });
+  if (!found)
+    value_error("unknown non-bonded interaction '" + name + "'");
+}
+
+template <class K> py::object field_to_py(Marble::Field<typename K::Params> const &f, typename K::Params const &p) {
+  double const x = f.get(p);
+  switch (f.type) {
+  case Marble::FieldType::integer:
+    return py::int_(static_cast<long long>(x));
+  case Marble::FieldType::choice:
+    return py::str(f.choices.at(static_cast<std::size_t>(x)));
+  case Marble::FieldType::real:
+    break;
   }
-  w.gamma = check_double(key("gamma"), get_num(kw, key("gamma").c_str(), 0.), 0., INFINITY);
-  w.r_cut = check_double(key("r_cut"), get_num(kw, key("r_cut").c_str(), 0.), 0., INFINITY);
-  w.k = check_double(key("k"), get_num(kw, key("k").c_str(), 1.), 0., INFINITY, true);
-  return w;
+  return py::float_(x);
 }
-void set_dpd(IAParams &p, py::dict const &kw) {
-  check_keys("dpd", kw, {"weight_function", "gamma", "k", "r_cut", "trans_weight_function",
-                         "trans_gamma", "trans_r_cut"});
-  Marble::DPDParams d;
-  d.radial = read_weight(kw, "");
-#ifdef TRANS_DPD
-  d.trans = read_weight(kw, "trans_");
-  d.trans.k = d.radial.k; // espressomd: one exponent k for both weights
-  d.active = (d.radial.gamma > 0. && d.radial.r_cut > 0.) || (d.trans.gamma > 0. && d.trans.r_cut > 0.);
-#else
-  for (auto k : {"trans_weight_function", "trans_gamma", "trans_r_cut"})
-    if (kw.contains(k) && to_double(k, kw[k]) != 0.)
-      throw Utils::FeaturesError("TRANS_DPD", std::string("dpd parameter '") + k + "'");
-  d.active = d.radial.gamma > 0. && d.radial.r_cut > 0.;
-#endif
-  p.dpd = d;
-}
-py::dict get_dpd(IAParams const &p) {
-  py::dict d("weight_function"_a = p.dpd.radial.weight_function, "gamma"_a = p.dpd.radial.gamma,
-             "k"_a = p.dpd.radial.k, "r_cut"_a = p.dpd.radial.r_cut);
-#ifdef TRANS_DPD
-  d["trans_weight_function"] = p.dpd.trans.weight_function;
-  d["trans_gamma"] = p.dpd.trans.gamma;
-  d["trans_r_cut"] = p.dpd.trans.r_cut;
-#else
-  d["trans_weight_function"] = 0;
-  d["trans_gamma"] = 0.;
-  d["trans_r_cut"] = 0.;
-#endif
-  return d;
-}
-#endif
 
-[[noreturn]] void unknown_kind(std::string const &kind) {
-  if (kind == "lennard_jones")
-    throw Utils::FeaturesError("LENNARD_JONES", "lennard_jones");
-  if (kind == "hat")
-    throw Utils::FeaturesError("HAT", "hat");
-  if (kind == "dpd")
-    throw Utils::FeaturesError("DPD", "dpd");
-  value_error("unknown non-bonded interaction '" + kind + "'");
+char const *role_name(Marble::KernelRole r) {
+  switch (r) {
+  case Marble::KernelRole::conservative:
+    return "conservative";
+  case Marble::KernelRole::pair_dissipative:
+    return "pair_dissipative";
+  case Marble::KernelRole::colloid_surface:
+    return "colloid_surface";
+  case Marble::KernelRole::wall_surface:
+    return "wall_surface";
+  }
+  return "?";
+}
+
+/** Name, feature, role and field list of every kernel (for Python and docs). */
+py::list kernel_descriptions() {
+  py::list out;
+  Marble::for_each_kernel<Marble::AllKernels>([&]<class K>() {
+    py::list fields;
+    for (auto const &f : K::fields()) {
+      py::dict d;
+      d["key"] = f.key;
+      d["type"] = f.type == Marble::FieldType::real      ? "real"
+                  : f.type == Marble::FieldType::integer ? "integer"
+                                                         : "choice";
+      d["required"] = f.required;
+      d["default"] = f.type == Marble::FieldType::choice && !f.choices.empty()
+                         ? py::object(py::str(f.choices.at(static_cast<std::size_t>(f.default_value))))
+                         : py::object(py::float_(f.default_value));
+      d["range"] = f.type == Marble::FieldType::integer && f.hint ? std::string(f.hint)
+                   : f.type == Marble::FieldType::choice          ? std::string()
+                                                                  : range_str(f.lo, f.lo_open, f.hi, f.hi_open);
+      py::list choices;
+      for (auto c : f.choices)
+        choices.append(c);
+      d["choices"] = choices;
+      d["keyword"] = f.keyword ? py::object(py::str(f.keyword)) : py::object(py::none());
+      d["feature"] = f.missing_feature ? py::object(py::str(f.missing_feature)) : py::object(py::none());
+      fields.append(d);
+    }
+    py::dict k;
+    k["name"] = K::name;
+    k["feature"] = K::feature;
+    k["py_class"] = K::py_class;
+    k["doc"] = K::doc;
+    k["compiled"] = Marble::compiled<K>;
+    k["role"] = role_name(K::role);
+    k["ordered"] = Marble::is_ordered(K::role);
+    k["fields"] = fields;
+    out.append(k);
+  });
+  return out;
 }
 
 } // namespace
 
 void bind_interactions(py::class_<System> &cls) {
+  cls.def_static("nonbonded_kernels", &kernel_descriptions);
   cls.def("set_nonbonded", [](System &s, int i, int j, std::string const &kind, py::dict kw) {
     check_types(i, j);
-    s.interactions().ensure_type(std::max(i, j));
-    IAParams p = s.interactions().get(i, j);
-    if (false) {
-    }
-#ifdef LENNARD_JONES
-    else if (kind == "lennard_jones") set_lj(p, kw);
-#endif
-#ifdef HAT
-    else if (kind == "hat") set_hat(p, kw);
-#endif
-#ifdef DPD
-    else if (kind == "dpd") set_dpd(p, kw);
-#endif
-    else unknown_kind(kind);
-    s.set_interaction(i, j, p);
+    with_kernel(kind, [&]<class K>() {
+      if constexpr (!Marble::compiled<K>) {
+        throw Utils::FeaturesError(K::feature, K::name);
+      } else {
+        auto p = Marble::parse_fields(K::name, K::fields(), field_values(kw));
+        if constexpr (requires { K::finish(p); })
+          K::finish(p);
+        p.active = K::activates(p);
+        if constexpr (requires { K::check_pair(s, i, j, p); })
+          K::check_pair(s, i, j, p);
+        s.set_kernel<K>(i, j, p);
+      }
+    });
   });
-  cls.def("get_nonbonded", [](System &s, int i, int j, std::string const &kind) -> py::dict {
+  cls.def("get_nonbonded", [](System &s, int i, int j, std::string const &kind) {
     check_types(i, j);
-    s.interactions().ensure_type(std::max(i, j));
-    IAParams const &p = s.interactions().get(i, j);
-    if (false) {
-    }
-#ifdef LENNARD_JONES
-    else if (kind == "lennard_jones") return p.lj.active ? get_lj(p) : py::dict();
-#endif
-#ifdef HAT
-    else if (kind == "hat") return p.hat.active ? get_hat(p) : py::dict();
-#endif
-#ifdef DPD
-    else if (kind == "dpd") return p.dpd.active ? get_dpd(p) : py::dict();
-#endif
-    unknown_kind(kind);
+    py::dict d;
+    with_kernel(kind, [&]<class K>() {
+      if constexpr (!Marble::compiled<K>) {
+        throw Utils::FeaturesError(K::feature, K::name);
+      } else {
+        if (std::max(i, j) >= s.interactions().n_types())
+          return;
+        auto const &p = s.interactions().get(i, j).get<K>();
+        if (!p.active)
+          return;
+        for (auto const &f : K::fields())
+          d[f.key] = field_to_py<K>(f, p);
+      }
+    });
+    return d;
   });
   cls.def("deactivate_nonbonded", [](System &s, int i, int j, std::string const &kind) {
     check_types(i, j);
-    s.interactions().ensure_type(std::max(i, j));
-    IAParams p = s.interactions().get(i, j);
-    if (false) {
-    }
-#ifdef LENNARD_JONES
-    else if (kind == "lennard_jones") p.lj = {};
-#endif
-#ifdef HAT
-    else if (kind == "hat") p.hat = {};
-#endif
-#ifdef DPD
-    else if (kind == "dpd") p.dpd = {};
-#endif
-    else unknown_kind(kind);
-    s.set_interaction(i, j, p);
+    with_kernel(kind, [&]<class K>() {
+      if constexpr (!Marble::compiled<K>)
+        throw Utils::FeaturesError(K::feature, K::name);
+      else
+        s.set_kernel<K>(i, j, typename K::Params{});
+    });
   });
+  cls.def("reset_nonbonded", &System::reset_interactions);
 }
 
 } // namespace ScriptInterface

@@ -64,7 +64,7 @@ PYBIND11_MODULE(_marble, m) {
   ScriptInterface::bind_cell_system(cls);
   ScriptInterface::bind_particle_data(cls);
   ScriptInterface::bind_interactions(cls);
-  ScriptInterface::bind_marble(cls);
+  ScriptInterface::bind_colloids(cls);
   ScriptInterface::bind_constraints(cls);
   ScriptInterface::bind_thermostat(cls);
   ScriptInterface::bind_integrate(cls);

@@ -2,6 +2,7 @@
 // Parameter validation at the script interface: every value that enters the
 // core passes through here, so errors name the parameter and its allowed range.
 #include "utils/Vector.hpp"
+#include "utils/checks.hpp"
 #include "utils/errors.hpp"
 
 #include <pybind11/numpy.h>
@@ -20,27 +21,9 @@ namespace ScriptInterface {
 
 namespace py = pybind11;
 
-[[noreturn]] inline void value_error(std::string const &msg) { throw std::invalid_argument(msg); }
-
-/** Interval description for messages, e.g. "[0, inf)". */
-inline std::string range_str(double lo, bool lo_open, double hi, bool hi_open) {
-  auto num = [](double x) {
-    if (std::isinf(x))
-      return std::string(x > 0 ? "inf" : "-inf");
-    return Utils::to_str(x);
-  };
-  return (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
-}
-
-/** A finite double in [lo, hi] (or open ends). */
-inline double check_double(std::string const &name, double x, double lo = -INFINITY,
-                           double hi = INFINITY, bool lo_open = false, bool hi_open = false) {
-  bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
-  if (!ok)
-    value_error("parameter '" + name + "' must be a finite number in " +
-                range_str(lo, lo_open, hi, hi_open) + ", got " + Utils::to_str(x));
-  return x;
-}
+using Utils::check_double;
+using Utils::range_str;
+using Utils::value_error;
 
 /** Convert a Python object to a double, rejecting bools/strings/None. */
 inline double to_double(std::string const &name, py::handle h) {

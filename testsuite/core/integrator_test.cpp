@@ -21,13 +21,13 @@ void fcc_lj_fluid(System &s, int n, double rho, double kT, std::uint64_t seed) {
   int const N = 4 * n * n * n;
   double const L = std::cbrt(N / rho);
   s.set_box_l({L, L, L});
-  Marble::IAParams p;
-  p.lj.active = true;
-  p.lj.epsilon = 1.;
-  p.lj.sigma = 1.;
-  p.lj.cutoff = 2.5;
-  p.lj.shift = Marble::LennardJonesParams::auto_shift(1., 2.5);
-  s.set_interaction(0, 0, p);
+  Marble::LennardJones::Params p;
+  p.active = true;
+  p.epsilon = 1.;
+  p.sigma = 1.;
+  p.cutoff = 2.5;
+  p.shift = Marble::LennardJones::auto_shift(1., 2.5);
+  s.set_kernel<Marble::LennardJones>(0, 0, p);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0., std::sqrt(kT));
   double const a = L / n;
@@ -113,12 +113,12 @@ TEST(VelocityVerlet, RefusesBlowUpAndStaysUsable) {
   // Two LJ particles almost on top of each other: the step is refused with an
   // error naming the step and the particle; the positions are kept.
   System s({10., 10., 10.});
-  Marble::IAParams p;
-  p.lj.active = true;
-  p.lj.epsilon = 1.;
-  p.lj.sigma = 1.;
-  p.lj.cutoff = 2.5;
-  s.set_interaction(0, 0, p);
+  Marble::LennardJones::Params p;
+  p.active = true;
+  p.epsilon = 1.;
+  p.sigma = 1.;
+  p.cutoff = 2.5;
+  s.set_kernel<Marble::LennardJones>(0, 0, p);
   Marble::ParticleProperties a, b;
   a.id = 3;
   a.pos = {5., 5., 5.};
@@ -153,12 +153,12 @@ TEST(VelocityVerlet, RefusesBlowUpAndStaysUsable) {
 TEST(VelocityVerlet, NonFiniteForceIsReported) {
   // r = 1e-25: the LJ force overflows to inf before any step is made.
   System s({10., 10., 10.});
-  Marble::IAParams p;
-  p.lj.active = true;
-  p.lj.epsilon = 1.;
-  p.lj.sigma = 1.;
-  p.lj.cutoff = 2.5;
-  s.set_interaction(0, 0, p);
+  Marble::LennardJones::Params p;
+  p.active = true;
+  p.epsilon = 1.;
+  p.sigma = 1.;
+  p.cutoff = 2.5;
+  s.set_kernel<Marble::LennardJones>(0, 0, p);
   Marble::ParticleProperties a, b;
   a.id = 0;
   a.pos = {0., 1., 1.};

@@ -157,17 +157,21 @@ TEST(ParticleStore, SystemKeepsIdsThroughRebuilds) {
   // layers in between: every particle keeps its data under its id.
   std::mt19937_64 rng(3);
   Marble::System s({4., 4., 4.});
-  Marble::IAParams p;
 #if defined(HAT)
-  p.hat.active = true;
-  p.hat.F_max = 1.;
-  p.hat.cutoff = 1.;
+  Marble::Hat::Params p;
+  p.active = true;
+  p.F_max = 1.;
+  p.cutoff = 1.;
+  s.set_kernel<Marble::Hat>(0, 4, p);
 #elif defined(DPD)
-  p.dpd.active = true;
-  p.dpd.radial.gamma = 1.;
-  p.dpd.radial.r_cut = 1.;
+  Marble::DPDParams p;
+  p.active = true;
+  p.radial.gamma = 1.;
+  p.radial.r_cut = 1.;
+  s.set_kernel<Marble::DPDPair>(0, 4, p);
+#else
+  s.interactions().ensure_type(4);
 #endif
-  s.set_interaction(0, 4, p);
   std::map<int, ParticleProperties> ref;
   std::uniform_int_distribution<int> idd(0, 500);
   for (int round = 0; round < 20; ++round) {

@@ -47,23 +47,27 @@ Triple canonical(int a, int b, Vector3i n) {
 void set_range(System &s, int n_types, double cut) {
   for (int i = 0; i < n_types; ++i)
     for (int j = i; j < n_types; ++j) {
-      IAParams p;
 #if defined(LENNARD_JONES)
-      p.lj.active = true;
-      p.lj.epsilon = 1.;
-      p.lj.sigma = 0.3;
-      p.lj.cutoff = cut;
-      p.lj.shift = Marble::LennardJonesParams::auto_shift(p.lj.sigma, p.lj.cutoff);
+      Marble::LennardJones::Params p;
+      p.active = true;
+      p.epsilon = 1.;
+      p.sigma = 0.3;
+      p.cutoff = cut;
+      p.shift = Marble::LennardJones::auto_shift(p.sigma, p.cutoff);
+      s.set_kernel<Marble::LennardJones>(i, j, p);
 #elif defined(HAT)
-      p.hat.active = true;
-      p.hat.F_max = 1.;
-      p.hat.cutoff = cut;
+      Marble::Hat::Params p;
+      p.active = true;
+      p.F_max = 1.;
+      p.cutoff = cut;
+      s.set_kernel<Marble::Hat>(i, j, p);
 #elif defined(DPD)
-      p.dpd.active = true;
-      p.dpd.radial.gamma = 1.;
-      p.dpd.radial.r_cut = cut;
+      Marble::DPDParams p;
+      p.active = true;
+      p.radial.gamma = 1.;
+      p.radial.r_cut = cut;
+      s.set_kernel<Marble::DPDPair>(i, j, p);
 #endif
-      s.set_interaction(i, j, p);
     }
 }
 
@@ -246,12 +250,14 @@ Sums brute_forces(System &s, double cut) {
               continue;
             double fac = 0., u = 0.;
 #ifdef LENNARD_JONES
-            if (p.lj.active)
-              fac += p.lj.force_over_r(r), u += p.lj.energy(r);
+            if (p.get<Marble::LennardJones>().active)
+              fac += Marble::LennardJones::force_over_r(p.get<Marble::LennardJones>(), r),
+                  u += Marble::LennardJones::energy(p.get<Marble::LennardJones>(), r);
 #endif
 #ifdef HAT
-            if (p.hat.active)
-              fac += p.hat.force_over_r(r), u += p.hat.energy(r);
+            if (p.get<Marble::Hat>().active)
+              fac += Marble::Hat::force_over_r(p.get<Marble::Hat>(), r),
+                  u += Marble::Hat::energy(p.get<Marble::Hat>(), r);
 #endif
             out.f[ps.id[i]] += fac * d;
             out.f[ps.id[j]] -= fac * d;
@@ -276,20 +282,22 @@ TEST_P(ForcesVsBrute, ForcesAndEnergy) {
   // Two types with different potentials and cutoffs; the range is the largest.
   for (int i = 0; i < 2; ++i)
     for (int j = i; j < 2; ++j) {
-      IAParams p;
 #ifdef LENNARD_JONES
-      p.lj.active = true;
-      p.lj.epsilon = 0.5 + i + j;
-      p.lj.sigma = 0.25;
-      p.lj.cutoff = (i + j == 1) ? c.cut : 0.8 * c.cut;
-      p.lj.shift = 0.01 * (1 + i + j);
+      Marble::LennardJones::Params lj;
+      lj.active = true;
+      lj.epsilon = 0.5 + i + j;
+      lj.sigma = 0.25;
+      lj.cutoff = (i + j == 1) ? c.cut : 0.8 * c.cut;
+      lj.shift = 0.01 * (1 + i + j);
+      s.set_kernel<Marble::LennardJones>(i, j, lj);
 #endif
 #ifdef HAT
-      p.hat.active = true;
-      p.hat.F_max = 2. + i + j;
-      p.hat.cutoff = (i == j) ? c.cut : 0.6 * c.cut;
+      Marble::Hat::Params hat;
+      hat.active = true;
+      hat.F_max = 2. + i + j;
+      hat.cutoff = (i == j) ? c.cut : 0.6 * c.cut;
+      s.set_kernel<Marble::Hat>(i, j, hat);
 #endif
-      s.set_interaction(i, j, p);
     }
   for (int k = 0; k < c.n; ++k) {
     Marble::ParticleProperties p;

@@ -1,5 +1,6 @@
 // Observables of the current state: energies, pressure tensor, momentum,
 // centre of mass, distances.
+#include "forces/pair_traversal.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 
@@ -27,16 +28,13 @@ Energies System::energies() {
 #endif
   }
   e.kinetic += e.kinetic_rot;
-  for (auto const &pr : m_cells.pairs()) {
-    int const ti = m_ps.type[pr[0]], tj = m_ps.type[pr[1]];
-    IAParams const &p = m_ia.get(ti, tj);
-    double const r2 = (m_ps.pos[pr[0]] - m_ps.pos[pr[1]]).norm2();
-    if (r2 >= p.max_cut2)
-      continue;
-    double const u = conservative_pair(p, std::sqrt(r2)).energy;
+  for_each_pair(m_ps, m_cells.pairs(), m_ia, [&](int i, int j) {
+    int const ti = m_ps.type[i], tj = m_ps.type[j];
+    double const r2 = (m_ps.pos[i] - m_ps.pos[j]).norm2();
+    double const u = conservative_pair(m_ia.get(ti, tj), std::sqrt(r2)).energy;
     e.non_bonded += u;
     e.non_bonded_pairs[std::min(ti, tj) * nt + std::max(ti, tj)] += u;
-  }
+  });
   e.non_bonded += m_constraints.energy(m_ps, m_box, m_ia);
 #ifdef MARBLE
   {
@@ -68,17 +66,13 @@ PressureTensor System::pressure_tensor() {
       for (int b = 0; b < 3; ++b)
         p.kinetic[3 * a + b] += m * m_ps.v[i][a] * m_ps.v[i][b] / V;
   }
-  for (auto const &pr : m_cells.pairs()) {
-    IAParams const &ia = m_ia.get(m_ps.type[pr[0]], m_ps.type[pr[1]]);
-    Vector3d const d = m_ps.pos[pr[0]] - m_ps.pos[pr[1]];
-    double const r2 = d.norm2();
-    if (r2 >= ia.max_cut2)
-      continue;
-    double const fac = conservative_pair(ia, std::sqrt(r2)).force_over_r;
+  for_each_pair(m_ps, m_cells.pairs(), m_ia, [&](int i, int j) {
+    Vector3d const d = m_ps.pos[i] - m_ps.pos[j];
+    double const fac = conservative_pair(m_ia.get(m_ps.type[i], m_ps.type[j]), std::sqrt(d.norm2())).force_over_r;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         p.non_bonded[3 * a + b] += fac * d[a] * d[b] / V;
-  }
+  });
 #ifdef MARBLE
   {
     std::vector<double> eu(static_cast<std::size_t>(m_ia.n_types()) * m_ia.n_types(), 0.);

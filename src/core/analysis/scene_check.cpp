@@ -77,17 +77,12 @@ std::vector<SceneWarning> check_scene(System &sys) {
       continue;
     for (int b = 0; b < nt; ++b) {
       auto const &p = ia.get(a, b);
-      if (ia.is_large(b) || count[b] == 0. || !p.dpd.active)
+      if (ia.is_large(b) || count[b] == 0. || !p.get<DPDPair>().active)
         continue;
       any_dpd = true;
-#ifdef HAT
-      conservative = conservative || p.hat.active;
-#endif
-#ifdef LENNARD_JONES
-      conservative = conservative || p.lj.active;
-#endif
+      conservative = conservative || any_conservative(p);
     }
-    if (ia.get(a, a).dpd.active)
+    if (ia.get(a, a).get<DPDPair>().active)
       n_solvent += count[a];
   }
   double V_free = V;
@@ -100,7 +95,7 @@ std::vector<SceneWarning> check_scene(System &sys) {
       continue;
     double R = 0.;
     for (int s = 0; s < nt; ++s)
-      R = std::max(R, col.get(c, s).radius);
+      R = std::max(R, ia.get(c, s).get<MarbleSurface>().radius);
     V_col += 4. / 3. * M_PI * R * R * R;
   }
   V_free -= sys.comm().sum(V_col);
@@ -141,7 +136,7 @@ std::vector<SceneWarning> check_scene(System &sys) {
     if (!col.is_colloid_type(c) || count[c] == 0.)
       continue;
     for (int s = 0; s < nt; ++s) {
-      auto const &m = col.get(c, s);
+      auto const &m = ia.get(c, s).get<MarbleSurface>();
       if (!m.active)
         continue;
       double const x = m.radius / Lmin;

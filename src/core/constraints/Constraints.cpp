@@ -36,29 +36,6 @@ std::vector<char> Constraints::wall_types(int n_types) const {
   return out;
 }
 
-void Constraints::set_tunable_slip(int wt, int ft, TunableSlipParams const &p) {
-  int const n = std::max({m_n, wt + 1, ft + 1});
-  if (n > m_n) {
-    std::vector<TunableSlipParams> t(static_cast<std::size_t>(n) * n);
-    for (int i = 0; i < m_n; ++i)
-      for (int j = 0; j < m_n; ++j)
-        t[i * n + j] = m_slip[i * m_n + j];
-    m_slip.swap(t);
-    m_n = n;
-  }
-  m_slip[wt * m_n + ft] = p;
-}
-
-TunableSlipParams const &Constraints::tunable_slip(int wt, int ft) const {
-  static TunableSlipParams const none{};
-  return (wt < m_n && ft < m_n) ? m_slip[wt * m_n + ft] : none;
-}
-
-void Constraints::update_prefactors(double kT, double dt) {
-  for (auto &p : m_slip)
-    p.pref_noise = (dt > 0. && kT > 0. && p.gamma > 0.) ? std::sqrt(24. * kT * p.gamma / dt) : 0.;
-}
-
 namespace {
 // Folded position (periodic axes) for the distance to the wall plane.
 Vector3d folded(BoxGeometry const &box, Vector3d p) {
@@ -79,20 +56,14 @@ void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, Interact
     for (int i = 0; i < ps.n_local(); ++i) {
       int const t = ps.type[i];
       IAParams const &p = ia.get(w.type, t);
-      TunableSlipParams const &ts = tunable_slip(w.type, t);
-      double const range = std::max(p.max_cut, ts.active ? ts.offset + ts.r_cut : 0.);
+      TunableSlipParams const &ts = p.get<TunableSlip>();
+      double const range = std::max(p.max_cut, TunableSlip::range(ts));
       if (range <= 0.)
         continue;
       double const z = w.normal * folded(box, ps.pos[i]) - w.dist;
       if (z >= range)
         continue;
-      bool repulsive = false;
-#ifdef LENNARD_JONES
-      repulsive |= p.lj.active;
-#endif
-#ifdef HAT
-      repulsive |= p.hat.active;
-#endif
+      bool const repulsive = any_conservative(p);
       if (z <= 0. && !repulsive)
         continue; // behind a friction-only wall: outside its fluid, no force
       if (z <= 0.)
@@ -106,7 +77,7 @@ void Constraints::add_forces(ParticleStore &ps, BoxGeometry const &box, Interact
       double const zl = z - ts.offset; // depth into the friction layer
       if (ts.active && noise.on && zl < ts.r_cut) {
         double const wz = zl <= 0. ? 1. : 1. - zl / ts.r_cut;
-        Vector3d const xi = Utils::noise_uniform(noise.seed, Utils::RNGSalt::tunable_slip_wall,
+        Vector3d const xi = Utils::noise_uniform(noise.seed, TunableSlip::salt,
                                                  noise.counter, static_cast<std::uint64_t>(ps.id[i]),
                                                  static_cast<std::uint64_t>(w.id));
         f += (-ts.gamma * wz) * (ps.v[i] - w.velocity) + (ts.pref_noise * std::sqrt(wz)) * xi;

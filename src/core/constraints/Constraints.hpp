@@ -4,8 +4,9 @@
 // A wall has a unit normal n and a distance d from the origin; a particle at x
 // is at distance z = n.x - d on the fluid side (z < 0 is a penetration and
 // stops the run). Per (wall type, particle type) the wall exerts the
-// conservative potentials of the InteractionTable evaluated at r = z (e.g. WCA),
-// and with TUNABLE_SLIP the tunable-slip friction (Smiatek, Allen, Schmid 2008):
+// conservative kernels of the InteractionTable evaluated at r = z (e.g. WCA),
+// and with TUNABLE_SLIP the tunable-slip kernel (constraints/tunable_slip.hpp;
+// Smiatek, Allen, Schmid 2008):
 //   F = -gamma_L w(z) (v - v_wall) + sqrt(24 kT gamma_L / dt) sqrt(w(z)) xi,
 //   w(z) = 1 - (z - offset)/z_c for offset <= z < offset + z_c (w = 1 below offset),
 // where the optional offset moves the friction layer to where the fluid starts
@@ -14,6 +15,7 @@
 // with noise keyed by (particle id, wall id, counter). Momentum goes to the wall
 // (accumulated in total_force for analysis).
 #include "box/BoxGeometry.hpp"
+#include "constraints/tunable_slip.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
 #include "thermostats/NoiseContext.hpp"
@@ -22,12 +24,6 @@
 #include <vector>
 
 namespace Marble {
-
-struct TunableSlipParams {
-  bool active = false;
-  double gamma = 0., r_cut = 0., offset = 0.;
-  double pref_noise = 0.; // sqrt(24 kT gamma / dt)
-};
 
 struct Wall {
   Utils::Vector3d normal{0., 0., 1.};
@@ -52,10 +48,6 @@ public:
   /** Types that walls use (their pairs are not in the main Verlet list). */
   std::vector<char> wall_types(int n_types) const;
 
-  void set_tunable_slip(int wall_type, int fluid_type, TunableSlipParams const &p);
-  TunableSlipParams const &tunable_slip(int wall_type, int fluid_type) const;
-  void update_prefactors(double kT, double dt);
-
   /** Add wall forces; throws Utils::RuntimeError on a wall penetration. */
   void add_forces(ParticleStore &ps, BoxGeometry const &box, InteractionTable const &ia,
                   NoiseContext const &noise, std::uint64_t step);
@@ -65,8 +57,6 @@ public:
 private:
   std::vector<Wall> m_walls;
   int m_next_id = 0;
-  int m_n = 0;
-  std::vector<TunableSlipParams> m_slip; // [wall_type * m_n + fluid_type]
 };
 
 } // namespace Marble

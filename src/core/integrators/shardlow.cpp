@@ -27,6 +27,7 @@
 // friction of v(t + dt) minus that of v(t + dt/2). Colloid and wall friction
 // stay explicit.
 #include "integrators/dpd_integrators.hpp"
+#include "forces/pair_traversal.hpp"
 #include "integrators/stability.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
@@ -59,11 +60,6 @@ struct OU {
   }
 };
 
-// Blocks of pairs as in the force loop (forces/forces.cpp): select the pairs
-// within range, draw their noise (independent iterations the CPU overlaps),
-// then do the sequential velocity updates in list order.
-constexpr int kBlock = 512;
-
 #endif // DPD
 } // namespace
 
@@ -71,50 +67,28 @@ constexpr int kBlock = 512;
 void shardlow_sweep(System &sys) {
   auto &ps = sys.particles();
   auto const &ia = sys.interactions();
-  auto const &th = sys.thermostat().dpd;
   double const dt = sys.time_step();
-  double const kT = th.kT;
-  auto const &pairs = sys.cells().pairs();
-  std::size_t const n_pairs = pairs.size();
-  std::array<int, kBlock> sel;
-  std::array<Vector3d, kBlock> xi;
-  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kBlock) {
-    int const nb =
-        static_cast<int>(std::min<std::size_t>(kBlock, n_pairs - b0));
-    auto const *const blk = pairs.data() + b0;
-    // 1. DPD pairs within range
-    int m = 0;
-    for (int q = 0; q < nb; ++q) {
-      int const i = blk[q][0], j = blk[q][1];
-      IAParams const &p = ia.get(ps.type[i], ps.type[j]);
-      double const r2 = (ps.pos[i] - ps.pos[j]).norm2();
-      sel[m] = q;
-      m += (p.dpd.active && r2 < p.max_cut2 && r2 > 0.) ? 1 : 0;
-    }
-    // 2. noise of the unordered pair, sign by id order (reference.md section 1)
-    if (kT > 0.) {
-      for (int s = 0; s < m; ++s) {
-        int const a = ps.id[blk[sel[s]][0]], b = ps.id[blk[sel[s]][1]];
-        bool const flip = !(a < b);
-        Vector3d const x = Utils::noise_uniform(
-            th.seed, Utils::RNGSalt::dpd, th.philox_counter,
-            static_cast<std::uint64_t>(flip ? b : a),
-            static_cast<std::uint64_t>(flip ? a : b));
-        xi[s] = flip ? -x : x;
-      }
-    } else {
-      for (int s = 0; s < m; ++s)
-        xi[s] = {};
-    }
-    // 3. exact pair updates, one after the other
-    for (int s = 0; s < m; ++s) {
-      int const i = blk[sel[s]][0], j = blk[sel[s]][1];
-      IAParams const &p = ia.get(ps.type[i], ps.type[j]);
+  NoiseContext const noise = sys.noise_context(true);
+  double const kT = sys.thermostat().dpd.kT;
+  std::array<Vector3d, kPairBlock> xi;
+  for_each_pair_block(ps, sys.cells().pairs(), ia, [&](PairBlock const &b) {
+    // the noise of the block's pairs (independent draws the CPU overlaps), then
+    // the sequential exact pair updates in list order
+    if (kT > 0.)
+      draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
+    else
+      std::fill(xi.begin(), xi.begin() + b.size, Vector3d{});
+    for (int s = 0; s < b.size; ++s) {
+      int const i = b.i[s], j = b.j[s];
+      DPDParams const &p = ia.get(ps.type[i], ps.type[j]).get<DPDPair>();
       Vector3d const d = ps.pos[i] - ps.pos[j];
-      double const r = std::sqrt(d.norm2());
-      double const w = p.dpd.radial.weight(r);
+      double const r2 = d.norm2();
+      if (!p.active || !(r2 > 0.))
+        continue;
+      double const r = std::sqrt(r2);
+      double const w = p.radial.weight(r);
 #ifdef TRANS_DPD
-      double const wt = p.dpd.trans.weight(r);
+      double const wt = p.trans.weight(r);
       if (w <= 0. && wt <= 0.)
         continue;
 #else
@@ -124,21 +98,18 @@ void shardlow_sweep(System &sys) {
       int const oi = owner(ps, i), oj = owner(ps, j);
       double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
       double const mu = mi * mj / (mi + mj);
-      double mfac = 1.;
-#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-      mfac = dpd_mass_factor(mi, mj);
-#endif
+      double const mfac = dpd_mass_factor(mi, mj);
       Vector3d const e = d / r;
       Vector3d const vij = ps.v[oi] - ps.v[oj];
       double const u = e * vij;
       Vector3d du{};
-      if (w > 0. && p.dpd.radial.gamma > 0.) {
-        OU const ou(p.dpd.radial.gamma * mfac * w * w * dt / mu, kT / mu);
+      if (w > 0. && p.radial.gamma > 0.) {
+        OU const ou(p.radial.gamma * mfac * w * w * dt / mu, kT / mu);
         du = ((ou.a - 1.) * u + ou.s * (e * xi[s])) * e;
       }
 #ifdef TRANS_DPD
-      if (wt > 0. && p.dpd.trans.gamma > 0.) {
-        OU const ou(p.dpd.trans.gamma * mfac * wt * wt * dt / mu, kT / mu);
+      if (wt > 0. && p.trans.gamma > 0.) {
+        OU const ou(p.trans.gamma * mfac * wt * wt * dt / mu, kT / mu);
         Vector3d const u_perp = vij - u * e;
         Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
         du += (ou.a - 1.) * u_perp + ou.s * xi_perp;
@@ -148,7 +119,7 @@ void shardlow_sweep(System &sys) {
       ps.v[oi] += dp / mi;
       ps.v[oj] -= dp / mj;
     }
-  }
+  });
 }
 
 // F_i += friction of the velocity change dv (pairs of the main list only):
@@ -160,23 +131,19 @@ template <typename DV, typename Add> void friction_of_dv_pairs(System &sys, DV d
   auto const &ps = sys.particles();
   auto const &ia = sys.interactions();
   Vector3d const no_noise{};
-  for (auto const &pr : sys.cells().pairs()) {
-    int const i = pr[0], j = pr[1];
-    IAParams const &p = ia.get(ps.type[i], ps.type[j]);
-    if (!p.dpd.active)
-      continue;
+  for_each_pair(ps, sys.cells().pairs(), ia, [&](int i, int j) {
+    DPDParams const &p = ia.get(ps.type[i], ps.type[j]).get<DPDPair>();
+    if (!p.active)
+      return;
     Vector3d const d = ps.pos[i] - ps.pos[j];
     double const r2 = d.norm2();
-    if (!(r2 < p.max_cut2) || !(r2 > 0.))
-      continue;
-    double mfac = 1.;
-#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-    mfac = dpd_mass_factor(ps.get_mass(i), ps.get_mass(j)); // ghosts carry their owner's mass
-#endif
-    Vector3d const f = dpd_pair_force(p.dpd, d, std::sqrt(r2), dv_of(i) - dv_of(j), no_noise, mfac);
+    if (!(r2 > 0.))
+      return;
+    // ghosts carry their owner's mass
+    Vector3d const f = DPDPair::force(p, d, std::sqrt(r2), dv_of(i) - dv_of(j), no_noise, pair_mass_factor(ps, i, j));
     add(i, f);
     add(j, -f);
-  }
+  });
 }
 } // namespace
 

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace Marble {
@@ -102,7 +103,7 @@ FrictionRates friction_rates(System &sys,
     if (!include_pair_dpd || ia.is_large(a))
       continue;
     for (int b = 0; b < nt; ++b) {
-      auto const &p = ia.get(a, b).dpd;
+      auto const &p = ia.get(a, b).get<DPDPair>();
       if (!p.active || st.count[b] == 0. || ia.is_large(b))
         continue;
       double const ma = st.m_min[a], mb = st.m_min[b];
@@ -135,7 +136,7 @@ FrictionRates friction_rates(System &sys,
     double trans = 0., rot = 0.;
     double R = 0.;
     for (int s = 0; s < nt; ++s) {
-      auto const &m = col.get(c, s);
+      auto const &m = ia.get(c, s).get<MarbleSurface>();
       if (!m.active || st.count[s] == 0.)
         continue;
       R = std::max(R, m.radius);
@@ -172,7 +173,7 @@ FrictionRates friction_rates(System &sys,
     for (int s = 0; s < nt; ++s) {
       if (w.type >= nt || st.count[s] == 0.)
         continue;
-      auto const &p = sys.constraints().tunable_slip(w.type, s);
+      auto const &p = std::as_const(sys.interactions()).get(w.type, s).get<TunableSlip>();
       if (!p.active || p.gamma <= 0.)
         continue;
       one[s] += p.gamma / st.m_min[s];

@@ -138,7 +138,8 @@ In unwrap(char const *magic, std::vector<char> const &blob, char const *what) {
   auto const crc = h.pod<std::uint32_t>();
   if (version != Checkpoint::format_version)
     corrupt("format version " + std::to_string(version) + ", this build reads version " +
-            std::to_string(Checkpoint::format_version));
+            std::to_string(Checkpoint::format_version) +
+            " (written by another Marble version; restart it with the version that wrote it)");
   if (size != blob.size() - header_size)
     corrupt("the header announces " + std::to_string(size) + " bytes of data, found " +
             std::to_string(blob.size() - header_size) + " (truncated or corrupt)");
@@ -149,40 +150,50 @@ In unwrap(char const *magic, std::vector<char> const &blob, char const *what) {
 }
 
 std::string layout_signature() {
-  std::string s = "IAParams=" + std::to_string(sizeof(IAParams)) +
-                  " Thermostat=" + std::to_string(sizeof(Thermostat)) +
+  std::string s = "Thermostat=" + std::to_string(sizeof(Thermostat)) +
                   " Wall=" + std::to_string(sizeof(Wall)) +
-                  " TunableSlipParams=" + std::to_string(sizeof(TunableSlipParams)) +
                   " BoxGeometry=" + std::to_string(sizeof(BoxGeometry)) +
                   " SteepestDescentParams=" + std::to_string(sizeof(SteepestDescentParams));
-#ifdef MARBLE
-  s += " MarbleParams=" + std::to_string(sizeof(MarbleParams));
-#endif
+  // the kernels and their fields, as the interaction table is written
+  for_each_kernel<CompiledKernels>([&]<class K>() {
+    s += std::string(" ") + K::name + "(";
+    for (auto const &f : K::fields())
+      if (!f.missing_feature)
+        s += std::string(f.key) + ",";
+    s += ")";
+  });
   return s;
 }
 
-// Field lists of the parameter structs (A: Out with const, In with mutable
-// references). A new member must be added here; the layout signature above
-// makes a blob of a build with other struct sizes fail loudly.
-template <typename A, typename P> void weight_fields(A &a, P &w) {
-  a(w.weight_function, w.gamma, w.k, w.r_cut, w.pref_noise);
+// The interaction table, kernel by kernel through the kernels' field lists
+// (every number as a double: integer and choice fields are exact); derived
+// values (cutoffs, noise prefactors) are recomputed on restore.
+void write_ia(Out &o, IAParams const &p) {
+  for_each_kernel<CompiledKernels>([&]<class K>() {
+    auto const &kp = p.template get<K>();
+    o.field(kp.active);
+    for (auto const &f : K::fields())
+      if (!f.missing_feature)
+        o.pod(f.get(kp));
+  });
 }
-template <typename A, typename P> void ia_fields(A &a, P &p) {
-#ifdef LENNARD_JONES
-  a(p.lj.active, p.lj.epsilon, p.lj.sigma, p.lj.cutoff, p.lj.shift, p.lj.offset, p.lj.min);
-#endif
-#ifdef HAT
-  a(p.hat.active, p.hat.F_max, p.hat.cutoff);
-#endif
-#ifdef DPD
-  a(p.dpd.active);
-  weight_fields(a, p.dpd.radial);
-#ifdef TRANS_DPD
-  weight_fields(a, p.dpd.trans);
-#endif
-#endif
-  a(p.max_cut, p.max_cut2);
+void read_ia(In &in, IAParams &p) {
+  for_each_kernel<CompiledKernels>([&]<class K>() {
+    auto &kp = p.template get<K>();
+    in.field(kp.active);
+    for (auto const &f : K::fields())
+      if (!f.missing_feature)
+        f.set(kp, in.pod<double>());
+    if constexpr (requires { K::finish(kp); })
+      if (kp.active) // derived values (e.g. Morse's energy shift)
+        K::finish(kp);
+  });
+  p.update_cutoff();
 }
+
+// Field lists of the other parameter structs (A: Out with const, In with
+// mutable references). A new member must be added here; the layout signature
+// above makes a blob of a build with other struct sizes fail loudly.
 template <typename A, typename P> void thermostat_fields([[maybe_unused]] A &a, [[maybe_unused]] P &t) {
 #ifdef DPD
   a(t.dpd.active, t.dpd.seeded, t.dpd.kT, t.dpd.seed, t.dpd.philox_counter);
@@ -191,14 +202,6 @@ template <typename A, typename P> void thermostat_fields([[maybe_unused]] A &a, 
 template <typename A, typename P> void wall_fields(A &a, P &w) {
   a(w.normal, w.dist, w.type, w.velocity, w.id, w.total_force, w.energy);
 }
-template <typename A, typename P> void slip_fields(A &a, P &p) {
-  a(p.active, p.gamma, p.r_cut, p.offset, p.pref_noise);
-}
-#ifdef MARBLE
-template <typename A, typename P> void marble_fields(A &a, P &p) {
-  a(p.active, p.radius, p.gamma, p.r_cut, p.k, p.weight_function, p.coupling, p.pref_noise);
-}
-#endif
 template <typename A, typename P> void sd_fields(A &a, P &p) { a(p.f_max, p.gamma, p.max_displacement); }
 
 /** Every local-particle array, in ParticleStore order. */
@@ -230,14 +233,7 @@ struct CheckpointAccess {
     std::vector<IAParams> ia;
     std::vector<char> large;
     std::vector<Wall> walls;
-    std::int32_t wall_next_id = 0, slip_n = 0;
-    std::vector<TunableSlipParams> slip;
-#ifdef MARBLE
-    std::int32_t col_n = 0;
-    std::uint8_t col_any = 0;
-    std::vector<MarbleParams> col_table;
-    std::vector<char> col_is_colloid;
-#endif
+    std::int32_t wall_next_id = 0;
   };
 
   static void write_global(Out &o, System const &s) {
@@ -257,22 +253,13 @@ struct CheckpointAccess {
     thermostat_fields(o, s.m_thermo);
     int const n = s.m_ia.n_types();
     o.pod(static_cast<std::int32_t>(n));
-    o.structs(const_cast<InteractionTable &>(s.m_ia).all(),
-              [](Out &a, IAParams const &p) { ia_fields(a, p); });
+    o.structs(s.m_ia.all(), [](Out &a, IAParams const &p) { write_ia(a, p); });
     std::vector<char> large(static_cast<std::size_t>(n));
     for (int t = 0; t < n; ++t)
       large[t] = s.m_ia.is_large(t) ? 1 : 0;
     o.vec(large);
     o.structs(s.m_constraints.m_walls, [](Out &a, Wall const &w) { wall_fields(a, w); });
     o.pod(static_cast<std::int32_t>(s.m_constraints.m_next_id));
-    o.pod(static_cast<std::int32_t>(s.m_constraints.m_n));
-    o.structs(s.m_constraints.m_slip, [](Out &a, TunableSlipParams const &p) { slip_fields(a, p); });
-#ifdef MARBLE
-    o.pod(static_cast<std::int32_t>(s.m_colloids.m_n));
-    o.pod(static_cast<std::uint8_t>(s.m_colloids.m_any));
-    o.structs(s.m_colloids.m_table, [](Out &a, MarbleParams const &p) { marble_fields(a, p); });
-    o.vec(s.m_colloids.m_is_colloid);
-#endif
   }
 
   static Global read_global(In &in) {
@@ -295,31 +282,16 @@ struct CheckpointAccess {
     g.cells_valid = in.pod<std::uint8_t>();
     thermostat_fields(in, g.thermo);
     g.n_types = in.pod<std::int32_t>();
-    g.ia = in.structs<IAParams>([](In &a, IAParams &p) { ia_fields(a, p); });
+    g.ia = in.structs<IAParams>([](In &a, IAParams &p) { read_ia(a, p); });
     g.large = in.vec<char>();
     g.walls = in.structs<Wall>([](In &a, Wall &w) { wall_fields(a, w); });
     g.wall_next_id = in.pod<std::int32_t>();
-    g.slip_n = in.pod<std::int32_t>();
-    g.slip = in.structs<TunableSlipParams>([](In &a, TunableSlipParams &p) { slip_fields(a, p); });
-#ifdef MARBLE
-    g.col_n = in.pod<std::int32_t>();
-    g.col_any = in.pod<std::uint8_t>();
-    g.col_table = in.structs<MarbleParams>([](In &a, MarbleParams &p) { marble_fields(a, p); });
-    g.col_is_colloid = in.vec<char>();
-#endif
     auto square = [](std::int32_t n) { return static_cast<std::size_t>(n) * static_cast<std::size_t>(n); };
     if (g.n_types < 0 || g.n_types > InteractionTable::max_type || g.ia.size() != square(g.n_types) ||
         g.large.size() != static_cast<std::size_t>(g.n_types))
       corrupt("inconsistent interaction table");
     if (g.integrator < 0 || g.integrator > static_cast<int>(IntegratorKind::DPDVV))
       corrupt("unknown integrator");
-    if (g.slip_n < 0 || g.slip.size() != square(g.slip_n))
-      corrupt("inconsistent tunable-slip table");
-#ifdef MARBLE
-    if (g.col_n < 0 || g.col_table.size() != square(g.col_n) ||
-        g.col_is_colloid.size() != static_cast<std::size_t>(g.col_n))
-      corrupt("inconsistent colloid table");
-#endif
     for (int d = 0; d < 3; ++d)
       if (!(g.box.length()[d] > 0.))
         corrupt("box length <= 0");
@@ -478,16 +450,11 @@ struct CheckpointAccess {
       s.m_ia.ensure_type(g.n_types - 1);
     s.m_ia.all() = g.ia;
     s.m_ia.set_large_types(g.large);
+    s.update_thermostat_prefactors();
     s.m_constraints.m_walls = g.walls;
     s.m_constraints.m_next_id = g.wall_next_id;
-    s.m_constraints.m_n = g.slip_n;
-    s.m_constraints.m_slip = g.slip;
 #ifdef MARBLE
-    s.m_colloids.m_n = g.col_n;
-    s.m_colloids.m_any = g.col_any != 0;
-    s.m_colloids.m_table = g.col_table;
-    s.m_colloids.m_is_colloid = g.col_is_colloid;
-    s.m_colloids.m_pairs.clear();
+    s.m_colloids.set_types(s.m_ia.colloid_types());
     // with MPI, every rank keeps a copy of each colloid (cells/CellSystem.cpp)
     s.m_cells.set_replicated_types(s.m_colloids.colloid_types());
 #endif

@@ -2,6 +2,8 @@
 #ifdef MARBLE
 #include "marble/Colloids.hpp"
 
+#include "forces/pair_force.hpp"
+#include "forces/pair_traversal.hpp"
 #include "utils/noise.hpp"
 
 #include <algorithm>
@@ -11,48 +13,9 @@ namespace Marble {
 
 using Utils::Vector3d;
 
-void Colloids::grow(int n) {
-  if (n <= m_n)
-    return;
-  std::vector<MarbleParams> t(static_cast<std::size_t>(n) * n);
-  for (int i = 0; i < m_n; ++i)
-    for (int j = 0; j < m_n; ++j)
-      t[i * n + j] = m_table[i * m_n + j];
-  m_table.swap(t);
-  m_is_colloid.resize(n, 0);
-  m_n = n;
-}
-
-void Colloids::set(int c, int s, MarbleParams const &p) {
-  grow(std::max(c, s) + 1);
-  m_table[c * m_n + s] = p;
-  m_any = false;
-  std::fill(m_is_colloid.begin(), m_is_colloid.end(), 0);
-  for (int i = 0; i < m_n; ++i)
-    for (int j = 0; j < m_n; ++j)
-      if (m_table[i * m_n + j].active) {
-        m_is_colloid[i] = 1;
-        m_any = true;
-      }
-}
-
-MarbleParams const &Colloids::get(int c, int s) const {
-  static MarbleParams const none{};
-  if (c >= m_n || s >= m_n)
-    return none;
-  return m_table[c * m_n + s];
-}
-
-bool Colloids::is_solvent_type(int t) const {
-  for (int c = 0; c < m_n; ++c)
-    if (t < m_n && m_table[c * m_n + t].active)
-      return true;
-  return false;
-}
-
-void Colloids::update_prefactors(double kT, double dt) {
-  for (auto &p : m_table)
-    p.pref_noise = (dt > 0. && kT > 0. && p.gamma > 0.) ? std::sqrt(24. * kT * p.gamma / dt) : 0.;
+void Colloids::set_types(std::vector<char> const &is_colloid) {
+  m_is_colloid = is_colloid;
+  m_any = std::any_of(is_colloid.begin(), is_colloid.end(), [](char c) { return c != 0; });
 }
 
 void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
@@ -76,7 +39,7 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
     // Interaction range of this colloid with any type.
     double range = 0.;
     for (int t = 0; t < nt; ++t)
-      range = std::max({range, ia.get(tc, t).max_cut, get(tc, t).range()});
+      range = std::max({range, ia.get(tc, t).max_cut, MarbleSurface::range(ia.get(tc, t).get<MarbleSurface>())});
     if (range <= 0.)
       continue;
     range += skin;
@@ -112,6 +75,8 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
 }
 
 void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const {
+  // without the thermostat only the conservative kernels act
+  unsigned const mask = noise.on ? all_pair_kernels : pair_kernels_with_role<KernelRole::conservative>();
   for (auto const &pr : m_pairs) {
     int const c = pr.colloid, j = pr.other;
     int const tc = ps.type[c], tj = ps.type[j];
@@ -119,35 +84,26 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
     Vector3d const d = ps.pos[j] - (ps.pos[c] + pr.shift);
     double const r2 = d.norm2();
     IAParams const &p = ia.get(tc, tj);
-    MarbleParams const &m = get(tc, tj);
-    if (r2 >= p.max_cut * p.max_cut && !(m.active && r2 < m.range() * m.range()))
+    MarbleParams const &m = p.get<MarbleSurface>();
+    double const range = MarbleSurface::range(m);
+    if (r2 >= p.max_cut * p.max_cut && !(m.active && r2 < range * range))
       continue;
     double const r = std::sqrt(r2);
     if (!(r > 0.))
       continue;
     // Force on the partner j (F_i of the pair kernels with i = j).
-    Vector3d f = conservative_pair(p, r).force_over_r * d;
+    auto vij = [&] { return ps.v[j] - ps.v[c]; };
+    auto xi = [&]<class K>() { return pair_noise(noise, K::salt, ps.id[j], ps.id[c]); };
+    auto mfac = [&] { return pair_mass_factor(ps, j, c); };
+    Vector3d f = mask == all_pair_kernels ? pair_force<all_pair_kernels>(p, d, r, vij, xi, mfac)
+                                          : pair_force<pair_kernels_with_role<KernelRole::conservative>()>(
+                                                p, d, r, vij, xi, mfac);
     Vector3d torque{};
-#ifdef DPD
-    if (noise.on && p.dpd.active) {
-      int const a = ps.id[j], b = ps.id[c];
-      Vector3d const xi =
-          a < b ? Utils::noise_uniform(noise.seed, Utils::RNGSalt::dpd, noise.counter,
-                                       static_cast<std::uint64_t>(a), static_cast<std::uint64_t>(b))
-                : -Utils::noise_uniform(noise.seed, Utils::RNGSalt::dpd, noise.counter,
-                                        static_cast<std::uint64_t>(b), static_cast<std::uint64_t>(a));
-      double mfac = 1.;
-#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
-      mfac = dpd_mass_factor(ps.mass[j], ps.mass[c]);
-#endif
-      f += dpd_pair_force(p.dpd, d, r, ps.v[j] - ps.v[c], xi, mfac);
-    }
-#endif
     if (m.active && noise.on) {
-      Vector3d const xi = Utils::noise_uniform(noise.seed, Utils::RNGSalt::marble, noise.counter,
-                                               static_cast<std::uint64_t>(ps.id[c]),
-                                               static_cast<std::uint64_t>(ps.id[j]));
-      auto const mf = marble_force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], xi);
+      Vector3d const xim = Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
+                                                static_cast<std::uint64_t>(ps.id[c]),
+                                                static_cast<std::uint64_t>(ps.id[j]));
+      auto const mf = MarbleSurface::force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], xim);
       f += mf.on_bead;
       torque = mf.torque_colloid;
     }
@@ -182,7 +138,8 @@ void Colloids::conservative([[maybe_unused]] ParticleStore const &ps,
   }
 }
 
-std::string Colloids::check_rotation([[maybe_unused]] ParticleStore const &ps) const {
+std::string Colloids::check_rotation([[maybe_unused]] ParticleStore const &ps,
+                                    [[maybe_unused]] InteractionTable const &ia) const {
   if (!m_any)
     return {};
 #ifdef ROTATION
@@ -190,13 +147,14 @@ std::string Colloids::check_rotation([[maybe_unused]] ParticleStore const &ps) c
     int const t = ps.type[i];
     if (!is_colloid_type(t) || ps.rotation[i])
       continue;
-    for (int s = 0; s < m_n; ++s)
-      if (get(t, s).active && get(t, s).transmits_torque())
+    for (int s = 0; s < ia.n_types(); ++s) {
+      auto const &m = ia.get(t, s).get<MarbleSurface>();
+      if (m.active && m.transmits_torque())
         return "particle " + std::to_string(ps.id[i]) + " (type " + std::to_string(t) +
                ") has a marble coupling that exerts torque ('" +
-               (get(t, s).coupling == MarbleCoupling::tunable_slip ? "tunable_slip" : "transverse") +
-               "' with type " + std::to_string(s) +
-               ") but does not rotate: set rotation=True on it (or use coupling='dpd')";
+               MarbleSurface::coupling_names[static_cast<int>(m.coupling)] + "' with type " +
+               std::to_string(s) + ") but does not rotate: set rotation=True on it (or use coupling='dpd')";
+    }
   }
 #endif
   return {};

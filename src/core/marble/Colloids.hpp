@@ -1,13 +1,14 @@
 #pragma once
 // Large particles (marble colloids) and their pair interactions.
 //
-// A particle type that carries a marble coupling (colloid type c, solvent
-// type s) is a "colloid type". All pairs involving a colloid are found by a
-// search over the solvent's cell grid around each colloid (and its periodic
-// images) within R + r_cut + skin, so colloids never enlarge the solvent's
-// cells; the main Verlet list skips these pairs (InteractionTable large types).
-// This pair list serves the colloid's conservative potentials (e.g. the LJ
-// excluded volume with offset), DPD and the marble surface coupling.
+// A particle type that is the first type of an active colloid-surface kernel
+// (non_bonded_inter[c, s].marble) is a "colloid type". All pairs involving a
+// colloid are found by a search over the solvent's cell grid around each
+// colloid (and its periodic images) within range + skin, so colloids never
+// enlarge the solvent's cells; the main Verlet list skips these pairs
+// (InteractionTable large types). This pair list serves the colloid's pair
+// kernels (e.g. the LJ excluded volume with offset, DPD; forces/pair_force.hpp)
+// and the marble surface coupling.
 #include "box/BoxGeometry.hpp"
 #include "cells/CellSystem.hpp"
 #include "marble/marble_kernel.hpp"
@@ -15,6 +16,7 @@
 #include "particles/ParticleStore.hpp"
 #include "thermostats/NoiseContext.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,17 +24,12 @@
 namespace Marble {
 
 class Colloids {
-  friend struct CheckpointAccess; // io/checkpoint.cpp
-
 public:
-  /** Marble coupling of colloid type @p c with solvent type @p s (ordered). */
-  void set(int c, int s, MarbleParams const &p);
-  MarbleParams const &get(int c, int s) const;
+  /** The colloid types (InteractionTable::colloid_types()). */
+  void set_types(std::vector<char> const &is_colloid);
   bool is_colloid_type(int t) const { return t < static_cast<int>(m_is_colloid.size()) && m_is_colloid[t]; }
-  bool is_solvent_type(int t) const;
   std::vector<char> const &colloid_types() const { return m_is_colloid; }
   bool any() const { return m_any; }
-  void update_prefactors(double kT, double dt);
 
   /** Rebuild the colloid pair list; call right after the cell system's rebuild. */
   void rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
@@ -44,7 +41,7 @@ public:
   void conservative(ParticleStore const &ps, InteractionTable const &ia,
                     std::vector<double> &energy, std::array<double, 9> &virial) const;
   /** Empty if fine, else a message naming a colloid that cannot take torque. */
-  std::string check_rotation(ParticleStore const &ps) const;
+  std::string check_rotation(ParticleStore const &ps, InteractionTable const &ia) const;
   std::size_t n_pairs() const { return m_pairs.size(); }
 
 private:
@@ -52,12 +49,17 @@ private:
     int colloid, other;
     Utils::Vector3d shift; // image of the colloid: pos[colloid] + shift
   };
-  void grow(int n);
-  int m_n = 0;
   bool m_any = false;
-  std::vector<MarbleParams> m_table; // [c * m_n + s]
   std::vector<char> m_is_colloid;
   std::vector<Pair> m_pairs;
 };
+
+/** Is @p t the partner (solvent) type of an active marble coupling? */
+inline bool is_marble_solvent_type(InteractionTable const &ia, int t) {
+  for (int c = 0; c < ia.n_types(); ++c)
+    if (t < ia.n_types() && ia.get(c, t).get<MarbleSurface>().active)
+      return true;
+  return false;
+}
 
 } // namespace Marble

@@ -50,8 +50,7 @@ void System::clear_particles() {
   on_particle_change();
 }
 
-void System::set_interaction(int i, int j, IAParams const &p) {
-  m_ia.set(i, j, p);
+void System::on_interactions_change() {
   refresh_large_types();
   update_thermostat_prefactors();
   on_particle_change(); // the cutoff may have changed
@@ -59,21 +58,7 @@ void System::set_interaction(int i, int j, IAParams const &p) {
 
 void System::update_thermostat_prefactors() {
 #ifdef DPD
-  double const kT = m_thermo.dpd.kT;
-  double const dt = m_time_step;
-  auto pref = [&](DPDWeight &w) {
-    w.pref_noise = (dt > 0. && kT > 0. && w.gamma > 0.) ? std::sqrt(24. * kT * w.gamma / dt) : 0.;
-  };
-  for (auto &p : m_ia.all()) {
-    pref(p.dpd.radial);
-#ifdef TRANS_DPD
-    pref(p.dpd.trans);
-#endif
-  }
-#ifdef MARBLE
-  m_colloids.update_prefactors(kT, dt);
-#endif
-  m_constraints.update_prefactors(kT, dt);
+  m_ia.refresh_prefactors(m_thermo.dpd.kT, m_time_step);
 #endif
 }
 
@@ -81,6 +66,7 @@ void System::refresh_large_types() {
   int const n = m_ia.n_types();
   auto large = m_constraints.wall_types(n);
 #ifdef MARBLE
+  m_colloids.set_types(m_ia.colloid_types());
   auto const &col = m_colloids.colloid_types();
   for (int t = 0; t < n && t < static_cast<int>(col.size()); ++t)
     large[t] = large[t] || col[t];
@@ -103,16 +89,6 @@ void System::set_periodic(int d, bool p) {
   m_box.set_periodic(d, p);
   on_particle_change();
 }
-
-#ifdef MARBLE
-void System::set_marble(int c, int s, MarbleParams const &p) {
-  m_ia.ensure_type(std::max(c, s));
-  m_colloids.set(c, s, p);
-  refresh_large_types();
-  update_thermostat_prefactors();
-  on_particle_change();
-}
-#endif
 
 void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 #ifdef MARBLE
@@ -137,7 +113,7 @@ NoiseContext System::noise_context([[maybe_unused]] bool with_thermostat) const 
 void System::check_scene_before_run() const {
   std::string msg;
 #ifdef MARBLE
-  msg = m_colloids.check_rotation(m_ps);
+  msg = m_colloids.check_rotation(m_ps, m_ia);
   if (!msg.empty())
     msg = "cannot integrate: " + msg;
 #endif

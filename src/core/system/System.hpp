@@ -94,7 +94,20 @@ public:
 
   // --- interactions and thermostat ---
   InteractionTable &interactions() { return m_ia; }
-  void set_interaction(int i, int j, IAParams const &p);
+  InteractionTable const &interactions() const { return m_ia; }
+  /** Set kernel @p K of types (i, j) (validated by the caller). */
+  template <class K> void set_kernel(int i, int j, typename K::Params const &p) {
+    m_ia.set_kernel<K>(i, j, p);
+    on_interactions_change();
+  }
+  /** Switch every kernel of every type pair off. */
+  void reset_interactions() {
+    m_ia.reset();
+    on_interactions_change();
+  }
+  /** Call after a change of the interaction table: large types, colloid
+   * types, noise prefactors and the lists follow. */
+  void on_interactions_change();
   Thermostat &thermostat() { return m_thermo; }
   /** Recompute cached noise prefactors from kT, gamma, dt. */
   void update_thermostat_prefactors();
@@ -156,8 +169,6 @@ public:
 
 #ifdef MARBLE
   Colloids const &colloids() const { return m_colloids; }
-  /** Marble coupling of colloid type @p c with solvent type @p s (validated by the caller). */
-  void set_marble(int c, int s, MarbleParams const &p);
 #endif
   Constraints &constraints() { return m_constraints; }
   /** Call after adding/removing walls: their types leave the main Verlet list. */

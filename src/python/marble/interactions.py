@@ -1,12 +1,19 @@
 """Non-bonded interactions: ``system.non_bonded_inter[i, j].<kind>``.
 
 Each kind offers ``set_params(**kw)``, ``get_params()`` and ``deactivate()``,
-as in espressomd. Parameters are validated in the core's script interface.
+as in espressomd. The kinds and their classes are generated from the core's
+kernel list (``nonbonded/kernel_list.hpp``): a kernel added there appears here
+with its parameters documented, nothing else to write. Parameters are
+validated in the core (``ValueError`` naming the parameter and its allowed
+range; ``marble.FeaturesError`` for a kernel that is not compiled in).
 """
 import numbers
 
+from . import _marble
+
 
 class _Interaction:
+    """One kernel of one type pair. Subclasses are generated per kernel."""
     _kind = None
 
     def __init__(self, system, i, j):
@@ -36,76 +43,44 @@ class _Interaction:
         return f"<{type(self).__name__} types=({self._i}, {self._j}) {params}>"
 
 
-class LennardJonesInteraction(_Interaction):
-    """V = 4 eps [(s/(r-offset))^12 - (s/(r-offset))^6 + shift] for min < r-offset < cutoff.
-
-    Parameters: epsilon >= 0, sigma > 0, cutoff > 0 (measured from the offset),
-    shift (number or "auto"), offset >= 0, min >= 0.
-    """
-    _kind = "lennard_jones"
-
-
-class HatInteraction(_Interaction):
-    """Groot-Warren soft repulsion F = F_max (1 - r/cutoff). Parameters: F_max >= 0, cutoff > 0."""
-    _kind = "hat"
-
-
-class DPDInteraction(_Interaction):
-    """DPD pair friction and noise (needs ``system.thermostat.set_dpd``).
-
-    Parameters: weight_function (0: w=1, 1: w=1-(r/r_cut)^k), gamma >= 0, k > 0,
-    r_cut >= 0 and, with TRANS_DPD, trans_weight_function, trans_gamma, trans_r_cut.
-    """
-    _kind = "dpd"
+def _field_doc(f):
+    what = f["key"]
+    if f["feature"]:
+        return f"{what} (needs {f['feature']})"
+    if f["type"] == "choice":
+        rng = "one of " + ", ".join(repr(c) for c in f["choices"])
+    else:
+        rng = f["range"]
+        if f["keyword"]:
+            rng += f' or "{f["keyword"]}"'
+    tail = "required" if f["required"] else f"default {f['default']!r}"
+    return f"{what}: {rng}, {tail}"
 
 
-class MarbleInteraction(_Interaction):
-    """Marble colloid surface coupling (Zhou & Schmid) of colloid type i with solvent type j.
-
-    Parameters: radius > 0 (required), gamma >= 0 (required), r_cut > 0 (1.0),
-    weight_function 0 or 1 (1: w = 1 - (h/r_cut)^k), k > 0 (1.0),
-    coupling 'tunable_slip' (default), 'transverse' or 'dpd' (central).
-    Thermalised by the DPD thermostat (``system.thermostat.set_dpd``). The order
-    of the types matters: ``non_bonded_inter[colloid_type, solvent_type]``.
-    """
-    _kind = "marble"
-
-    def set_params(self, **params):
-        self._core.set_marble(self._i, self._j, params)
-
-    def get_params(self):
-        return dict(self._core.get_marble(self._i, self._j))
-
-    def deactivate(self):
-        self._core.deactivate_marble(self._i, self._j)
+def _make_class(k):
+    doc = k["doc"] + "\n\nParameters: " + "; ".join(_field_doc(f) for f in k["fields"]) + "."
+    doc += f"\n\nKernel '{k['name']}', feature {k['feature']}" + \
+        ("" if k["compiled"] else " (not compiled into this build)") + "."
+    if k["ordered"]:
+        doc += " Ordered: non_bonded_inter[i, j] with i the colloid or wall type."
+    return type(k["py_class"], (_Interaction,), {"_kind": k["name"], "__doc__": doc,
+                                                  "__module__": __name__})
 
 
-class TunableSlipInteraction(_Interaction):
-    """Tunable-slip wall friction (Smiatek et al.) between a wall's particle type i
-    and fluid type j: F = -gamma w(z) (v - v_wall) + noise, w = 1 - (z - offset)/r_cut
-    (w = 1 for z < offset). Parameters: gamma >= 0, r_cut > 0, offset >= 0 (0).
-    Thermalised by the DPD thermostat."""
-    _kind = "tunable_slip"
-
-    def set_params(self, **params):
-        self._core.set_tunable_slip(self._i, self._j, params)
-
-    def get_params(self):
-        return dict(self._core.get_tunable_slip(self._i, self._j))
-
-    def deactivate(self):
-        self._core.deactivate_tunable_slip(self._i, self._j)
+#: The core's kernel list: name, feature, role, fields (key, type, range, default).
+KERNELS = tuple(_marble.System.nonbonded_kernels())
+_CLASSES = {k["name"]: _make_class(k) for k in KERNELS}
+globals().update({cls.__name__: cls for cls in _CLASSES.values()})
+__all__ = ["NonBondedInteractions", "NonBondedInteractionHandle", "KERNELS"] + \
+    [cls.__name__ for cls in _CLASSES.values()]
 
 
 class NonBondedInteractionHandle:
-    """The interactions of one type pair."""
+    """The interactions of one type pair: one attribute per kernel (``lennard_jones``, ``dpd``, ...)."""
 
     def __init__(self, system, i, j):
-        self.lennard_jones = LennardJonesInteraction(system, i, j)
-        self.hat = HatInteraction(system, i, j)
-        self.dpd = DPDInteraction(system, i, j)
-        self.marble = MarbleInteraction(system, i, j)
-        self.tunable_slip = TunableSlipInteraction(system, i, j)
+        for name, cls in _CLASSES.items():
+            setattr(self, name, cls(system, i, j))
 
 
 def _check_type(t):
@@ -127,14 +102,6 @@ class NonBondedInteractions:
         return NonBondedInteractionHandle(self._system, i, j)
 
     def reset(self):
-        """Deactivate every interaction."""
-        core = self._system._core
-        types = {int(t) for t in core.get_property("type", core.particle_ids())}
-        n = max(types, default=0) + 1
-        for i in range(n):
-            for j in range(i, n):
-                for kind in ("lennard_jones", "hat", "dpd"):
-                    try:
-                        core.deactivate_nonbonded(i, j, kind)
-                    except Exception:  # kind not compiled in
-                        pass
+        """Deactivate every interaction of every kind (pair potentials, DPD,
+        marble couplings, tunable-slip walls) for every type pair."""
+        self._system._core.reset_nonbonded()

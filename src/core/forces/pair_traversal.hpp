@@ -1,0 +1,116 @@
+#pragma once
+// The one traversal of the main Verlet list, used by the forces, energy,
+// pressure, DPD stress, Shardlow and DPD-VV (doc/architecture.md). The list is
+// processed in blocks of kPairBlock pairs: first the pairs within their type
+// pair's cutoff are selected without a branch (half to two thirds of the
+// listed pairs are outside: a branch there is mispredicted often), then the
+// caller works on the selected pairs of the block, in list order, so the
+// summation order (and the trajectory) is that of a plain one-pass loop. A
+// NaN distance is kept (the force check reports it).
+#include "nonbonded/InteractionTable.hpp"
+#include "particles/ParticleStore.hpp"
+#include "thermostats/NoiseContext.hpp"
+#include "utils/noise.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace Marble {
+
+using PairList = std::vector<std::array<int, 2>>;
+
+constexpr int kPairBlock = 512;
+
+/** The selected pairs of one block: (i[s], j[s]) for s < size, in list order. */
+struct PairBlock {
+  std::array<int, kPairBlock> i, j;
+  int size = 0;
+};
+
+/** Call fn(PairBlock const &) for every block of @p pairs within their cutoff. */
+template <class Fn>
+void for_each_pair_block(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
+                         Fn &&fn) {
+  int const nt = ia.n_types();
+  // the squared cutoff of each type pair, in a small dense table
+  std::vector<double> cut2(static_cast<std::size_t>(nt) * nt);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < nt; ++b)
+      cut2[a * nt + b] = ia.get(a, b).max_cut2;
+  bool const one_type = nt == 1;
+  double const cut2_0 = nt > 0 ? cut2[0] : 0.;
+  auto const *const pos = ps.pos.data();
+  auto const *const typ = ps.type.data();
+  PairBlock b;
+  std::size_t const n_pairs = pairs.size();
+  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
+    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
+    auto const *const blk = pairs.data() + b0;
+    int m = 0;
+    if (one_type) {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        b.i[m] = i, b.j[m] = j;
+        m += !((pos[i] - pos[j]).norm2() >= cut2_0) ? 1 : 0;
+      }
+    } else {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        b.i[m] = i, b.j[m] = j;
+        m += !((pos[i] - pos[j]).norm2() >= cut2[typ[i] * nt + typ[j]]) ? 1 : 0;
+      }
+    }
+    b.size = m;
+    fn(static_cast<PairBlock const &>(b));
+  }
+}
+
+/** Call fn(i, j) for every pair of @p pairs within its cutoff, in list order. */
+template <class Fn>
+void for_each_pair(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia, Fn &&fn) {
+  for_each_pair_block(ps, pairs, ia, [&](PairBlock const &b) {
+    for (int s = 0; s < b.size; ++s)
+      fn(b.i[s], b.j[s]);
+  });
+}
+
+/** The pair noise of a symmetric dissipative kernel (reference.md section 1):
+ * keyed by the unordered pair of ids, signed by id order so that F_j = -F_i. */
+inline Utils::Vector3d pair_noise(NoiseContext const &n, Utils::RNGSalt salt, int id_i, int id_j) {
+  bool const flip = !(id_i < id_j);
+  Utils::Vector3d const x =
+      Utils::noise_uniform(n.seed, salt, n.counter, static_cast<std::uint64_t>(flip ? id_j : id_i),
+                           static_cast<std::uint64_t>(flip ? id_i : id_j));
+  return flip ? -x : x;
+}
+
+/** The noise of kernel @p K for the pairs of block @p b whose type pair has it
+ * active: independent draws the CPU overlaps (the noise is the largest cost). */
+template <class K>
+void draw_block_noise(PairBlock const &b, ParticleStore const &ps, InteractionTable const &ia,
+                      NoiseContext const &n, std::array<Utils::Vector3d, kPairBlock> &xi) {
+  auto const *const typ = ps.type.data();
+  auto const *const pid = ps.id.data();
+  bool const one_type = ia.n_types() == 1;
+  for (int s = 0; s < b.size; ++s) {
+    int const i = b.i[s], j = b.j[s];
+    if (!one_type && !ia.get(typ[i], typ[j]).template get<K>().active)
+      continue;
+    xi[s] = pair_noise(n, K::salt, pid[i], pid[j]);
+  }
+}
+
+/** M_ij of the pair (DPD_MASS_RED / DPD_MASS_LIN; 1 otherwise). */
+inline double pair_mass_factor([[maybe_unused]] ParticleStore const &ps, [[maybe_unused]] int i,
+                               [[maybe_unused]] int j) {
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+  return dpd_mass_factor(ps.get_mass(i), ps.get_mass(j));
+#else
+  return 1.;
+#endif
+}
+
+} // namespace Marble
