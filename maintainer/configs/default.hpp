@@ -6,6 +6,7 @@
 #define EXTERNAL_FORCE
 #define LENNARD_JONES
 #define HAT
+#define MORSE
 #define DPD
 #define TRANS_DPD
 #define MARBLE

@@ -8,12 +8,13 @@
 #include "marble/marble_kernel.hpp"
 #include "nonbonded/hat.hpp"
 #include "nonbonded/lennard_jones.hpp"
+#include "nonbonded/morse.hpp"
 #include "thermostats/dpd.hpp"
 
 namespace Marble {
 
 template <class... Ks> struct TypeList {};
 
-using AllKernels = TypeList<LennardJones, Hat, DPDPair, MarbleSurface, TunableSlip>;
+using AllKernels = TypeList<LennardJones, Hat, Morse, DPDPair, MarbleSurface, TunableSlip>;
 
 } // namespace Marble
