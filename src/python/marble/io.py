@@ -1,4 +1,4 @@
-"""Trajectory output in H5MD (doc/io.md), shaped like ``espressomd.io.writer.h5md``:
+"""Trajectory output in H5MD (doc/io.md), shaped like ``espressomd.io.writer.h5md``::
 
     import marble.io
     h5 = marble.io.H5md(file_path="traj.h5", system=system, fields="all")

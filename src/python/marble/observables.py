@@ -115,5 +115,22 @@ class ComVelocity(_PidObservable):
     _core_class = _marble.ComVelocity
 
 
+class DPDStress(Observable):
+    """Viscous DPD stress tensor, shape (3, 3): ``system.analysis.dpd_stress()``
+    (friction of the current velocities, no noise; the ESPResSo observable).
+    Feature DPD. Evaluated in Python: ``calculate()`` works anywhere, but the
+    C++ accumulators cannot sample it (ValueError); sample it in a Python
+    loop around ``integrator.run``."""
+
+    def _make(self, kwargs):
+        return None
+
+    def calculate(self):
+        return self._system.analysis.dpd_stress()
+
+    def shape(self):
+        return (3, 3)
+
+
 def _restore_observable(cls, system, kwargs):
     return cls(system=system, **kwargs)

@@ -122,6 +122,11 @@ class System:
         return self._core.step
 
     # --- geometry helpers ---------------------------------------------------
+    def volume(self):
+        """Box volume box_l[0] * box_l[1] * box_l[2] (a float)."""
+        L = self.box_l
+        return float(L[0] * L[1] * L[2])
+
     def _position_of(self, x, name):
         if isinstance(x, ParticleHandle):
             return x.pos_folded
