@@ -26,6 +26,24 @@ class CodeFeatures(ut.TestCase):
         from espressomd.checkpointing import Checkpoint
         self.assertIs(Checkpoint, marble.checkpointing.Checkpoint)
 
+    def test_h5md_writer_path(self):
+        from espressomd.io.writer import h5md
+        self.assertIs(h5md.H5md, marble.io.H5md)
+        if not marble.io.have_hdf5():
+            return
+        import os
+        import tempfile
+        system = espressomd.System(box_l=[3.0, 3.0, 3.0])
+        system.part.add(pos=[[0.5, 0.5, 0.5], [1.5, 1.0, 1.0]])
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "traj.h5")
+            h5 = h5md.H5md(file_path=path, system=system)
+            h5.write()
+            h5.write()
+            self.assertEqual(h5.n_frames, 2)
+            h5.close()
+            self.assertGreater(os.path.getsize(path), 0)
+
     def test_espresso_names(self):
         compiled = marble.features()
         self.assertEqual(espressomd.has_features("EXTERNAL_FORCES"), "EXTERNAL_FORCE" in compiled)

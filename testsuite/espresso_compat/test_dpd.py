@@ -44,7 +44,10 @@ class DPDStress(ut.TestCase):
         self.assertEqual(other.volume(), 27.0)
 
     def test_dpd_stress(self):
-        system = self.system
+        # DPDStress() reads the most recently created System (ESPResSo has only one)
+        system = espressomd.System(box_l=3 * [4.0])
+        system.time_step = 0.01
+        system.cell_system.skin = 0.4
         gamma, r_cut = 5.0, 1.0
         trans = espressomd.has_features("TRANS_DPD")
         t_gamma, t_r_cut = (gamma / 2.0, r_cut) if trans else (0.0, 0.0)

@@ -37,7 +37,8 @@ class Particles(ut.TestCase):
         self.assertFalse(espressomd.has_features("VIRTUAL_SITES"))
 
     def test_galilei_without_arguments(self):
-        system = self.system
+        # acts on the most recently created System (ESPResSo has only one)
+        system = espressomd.System(box_l=3 * [5.0])
         kw = dict(mass=[1.0, 3.0]) if espressomd.has_features("MASS") else {}
         parts = system.part.add(pos=[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
                                 v=[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0]], **kw)
@@ -53,7 +54,7 @@ class Particles(ut.TestCase):
     @utx.skipIfMissingFeatures("EXTERNAL_FORCES")
     def test_kill_forces(self):
         p = self.system.part.add(pos=[1.0, 1.0, 1.0], ext_force=[1.0, 2.0, 3.0])
-        espressomd.galilei.GalileiTransform().kill_particle_forces()
+        self.system.galilei.kill_particle_forces()
         np.testing.assert_array_equal(p.ext_force, 0.0)
 
 

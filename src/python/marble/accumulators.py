@@ -76,7 +76,7 @@ class Correlator(_Accumulator):
         Sampling interval in steps; sample spacing dt = delta_N * system.time_step.
     corr_operation : "scalar_product" (sum over all values, result (n_lags, 1)),
         "componentwise_product" or "square_distance_componentwise" (result
-        (n_lags, \*obs.shape())).
+        (n_lags, \\*obs.shape())).
     compress1, compress2 : "discard1" (keep the newer of two values, default),
         "discard2" (keep the older) or "linear" (average).
     """
@@ -148,7 +148,7 @@ class Correlator(_Accumulator):
 
     def result(self):
         """Correlation for each lag, shape (n_lags, 1) for scalar_product, else
-        (n_lags, \*obs1.shape()). NaN for lags not reached yet."""
+        (n_lags, \\*obs1.shape()). NaN for lags not reached yet."""
         return self._acc.result()
 
     def lag_times(self):
@@ -181,7 +181,7 @@ class TimeSeries(_Accumulator):
         self._acc = _marble.TimeSeries(self._obs_py._obs, kwargs.get("delta_N", 1))
 
     def time_series(self):
-        """Samples, shape (n_samples, \*obs.shape())."""
+        """Samples, shape (n_samples, \\*obs.shape())."""
         return self._acc.time_series()
 
     def clear(self):
