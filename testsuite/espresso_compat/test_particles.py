@@ -51,6 +51,29 @@ class Particles(ut.TestCase):
         gt.kill_particle_motion()
         np.testing.assert_array_equal(parts.v, 0.0)
 
+    def test_rotate_system(self):
+        system = self.system
+        kw = dict(mass=[1.0, 3.0]) if espressomd.has_features("MASS") else {}
+        parts = system.part.add(pos=[[1.0, 2.0, 2.0], [2.0, 2.0, 2.0]],
+                                v=[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]], **kw)
+        m = np.array(kw.get("mass", [1.0, 1.0]))
+        com = (m[:, None] * parts.pos).sum(0) / m.sum()
+        # axis z (theta = 0), a quarter turn: x -> y
+        system.rotate_system(phi=0.0, theta=0.0, alpha=np.pi / 2.0)
+        rel = np.array([[1.0, 2.0, 2.0], [2.0, 2.0, 2.0]]) - com
+        expected = com + np.stack([-rel[:, 1], rel[:, 0], rel[:, 2]], axis=1)
+        np.testing.assert_allclose(parts.pos, expected, atol=1e-14)
+        np.testing.assert_array_equal(parts.v, [[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+        # axis x (phi = 0, theta = pi/2), half a turn: y, z -> -y, -z about the com
+        before = np.copy(parts.pos)
+        system.rotate_system(phi=0.0, theta=np.pi / 2.0, alpha=np.pi)
+        rel = before - com
+        np.testing.assert_allclose(parts.pos, com + rel * [1.0, -1.0, -1.0], atol=1e-14)
+        with self.assertRaisesRegex(ValueError, "alpha"):
+            system.rotate_system(phi=0.0, theta=0.0)
+        with self.assertRaisesRegex(ValueError, "theta"):
+            system.rotate_system(phi=0.0, theta=float("nan"), alpha=1.0)
+
     @utx.skipIfMissingFeatures("EXTERNAL_FORCES")
     def test_kill_forces(self):
         p = self.system.part.add(pos=[1.0, 1.0, 1.0], ext_force=[1.0, 2.0, 3.0])
