@@ -116,26 +116,32 @@ class Correlator(_Accumulator):
 
     @property
     def obs1(self):
+        """The first observable."""
         return self._obs_py
 
     @property
     def obs2(self):
+        """The second observable (``obs1`` for an autocorrelation)."""
         return self._obs2_py if self._obs2_py is not None else self._obs_py
 
     @property
     def tau_lin(self):
+        """Number of lags per level of the multiple-tau hierarchy."""
         return self._acc.tau_lin
 
     @property
     def tau_max(self):
+        """Largest lag time to cover (the lags reach at least tau_max)."""
         return self._acc.tau_max
 
     @property
     def corr_operation(self):
+        """The correlation operation (``scalar_product``, ``componentwise_product``, ``square_distance_componentwise``)."""
         return self._acc.corr_operation
 
     @property
     def hierarchy_depth(self):
+        """Number of levels of the multiple-tau hierarchy."""
         return self._acc.hierarchy_depth
 
     @property
@@ -144,6 +150,7 @@ class Correlator(_Accumulator):
         return self._acc.n_samples
 
     def get_params(self):
+        """The constructor parameters, as a dict."""
         return dict(self._params, obs1=self.obs1, obs2=self.obs2)
 
     def result(self):
@@ -185,10 +192,12 @@ class TimeSeries(_Accumulator):
         return self._acc.time_series()
 
     def clear(self):
+        """Drop every stored sample."""
         self._acc.clear()
 
     @property
     def n_samples(self):
+        """Number of samples stored."""
         return self._acc.n_samples
 
 
@@ -207,6 +216,7 @@ class MeanVarianceCalculator(_Accumulator):
         self._acc = _marble.MeanVarianceCalculator(self._obs_py._obs, kwargs.get("delta_N", 1))
 
     def mean(self):
+        """Running mean of the samples (shape of the observable)."""
         return self._acc.mean()
 
     def variance(self):
@@ -220,6 +230,7 @@ class MeanVarianceCalculator(_Accumulator):
 
     @property
     def n_samples(self):
+        """Number of samples taken."""
         return self._acc.n_samples
 
 
@@ -232,6 +243,7 @@ class AutoUpdateAccumulators:
         _register_system(system)
 
     def add(self, accumulator):
+        """Sample ``accumulator`` every ``accumulator.delta_N`` steps inside ``integrator.run``."""
         if not isinstance(accumulator, _Accumulator):
             raise ValueError("only marble.accumulators objects can be added, got "
                              f"{type(accumulator).__name__}")
@@ -246,12 +258,14 @@ class AutoUpdateAccumulators:
         self._list.append(accumulator)
 
     def remove(self, accumulator):
+        """Stop sampling ``accumulator``."""
         if accumulator not in self._list:
             raise ValueError("this accumulator is not in auto_update_accumulators")
         self._system._core.auto_update_remove(accumulator._acc)
         self._list.remove(accumulator)
 
     def clear(self):
+        """Stop sampling every accumulator."""
         self._system._core.auto_update_clear()
         self._list.clear()
 

@@ -24,6 +24,7 @@ def _type_list(types, name):
 
 
 class Analysis:
+    """``system.analysis``: energies, pressure, DPD stress, temperature, momentum, distances."""
     def __init__(self, system):
         self._system = system
         self._core = system._core

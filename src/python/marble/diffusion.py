@@ -33,6 +33,7 @@ class BlockingResult(Result):
 
     @property
     def mean(self):
+        """The mean (same as ``value``)."""
         return self.value
 
     def __iter__(self):

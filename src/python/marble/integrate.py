@@ -17,6 +17,7 @@ def _progress_line(done, total, elapsed):
 
 
 class Integrator:
+    """``system.integrator``: velocity Verlet, steepest descent, Shardlow and DPD-VV, and ``run``."""
     def __init__(self, system):
         self._core = system._core
 

@@ -99,6 +99,7 @@ class H5md:
 
     @property
     def file_path(self):
+        """Path of the H5MD file."""
         return self._file.file_path
 
     @property
@@ -108,6 +109,7 @@ class H5md:
 
     @property
     def system(self):
+        """The System written."""
         return self._system
 
     @property
@@ -117,6 +119,7 @@ class H5md:
 
     @property
     def is_open(self):
+        """True until ``close()``."""
         return self._file.is_open
 
     def write(self):

@@ -60,6 +60,7 @@ class Observable:
         return self._obs.calculate(self._system._core)
 
     def shape(self):
+        """Shape of the array ``calculate()`` returns (a tuple)."""
         return tuple(self._obs.shape())
 
     @property
@@ -129,6 +130,7 @@ class DPDStress(Observable):
         return self._system.analysis.dpd_stress()
 
     def shape(self):
+        """(3, 3)"""
         return (3, 3)
 
 

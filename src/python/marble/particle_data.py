@@ -89,6 +89,7 @@ class ParticleHandle:
 
     @property
     def id(self):
+        """The particle's id (int, read-only)."""
         return self._id
 
     def remove(self):
@@ -96,6 +97,7 @@ class ParticleHandle:
         self._core.remove_particles([self._id])
 
     def to_dict(self):
+        """Every compiled-in property of the particle, as a dict."""
         out = {}
         for name in self._core.property_names():
             out[name] = getattr(self, name)
@@ -127,6 +129,7 @@ class ParticleSlice:
 
     @property
     def id(self):
+        """Ids of the particles in the slice (numpy int array)."""
         return np.array(self._ids, dtype=int)
 
     def __len__(self):
@@ -268,6 +271,7 @@ class ParticleList:
                 yield handles[a], handles[b]
 
     def exists(self, pid):
+        """True if a particle with id ``pid`` exists."""
         return self._core.particle_exists(int(pid))
 
     def clear(self):
@@ -276,6 +280,7 @@ class ParticleList:
 
     @property
     def highest_particle_id(self):
+        """Highest particle id in use, -1 if there are no particles."""
         return self._core.highest_particle_id()
 
     def __len__(self):
