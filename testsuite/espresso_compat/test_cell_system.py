@@ -37,6 +37,16 @@ class CellSystem(ut.TestCase):
         self.assertAlmostEqual(system.cell_system.skin, 0.3)
         self.assertEqual(system.cell_system.get_state()["effective_skin"], 0.3)
 
+    def test_skin_zero_survives_pickling(self):
+        import pickle
+        system = lj_gas(0.0)
+        system.integrator.run(10)
+        restored = pickle.loads(pickle.dumps(system))
+        self.assertEqual(restored.cell_system.skin, 0.0)
+        restored.integrator.run(10)
+        system.integrator.run(10)
+        np.testing.assert_array_equal(restored.part.all().pos, system.part.all().pos)
+
     def test_skin_validation_kept(self):
         system = espressomd.System(box_l=[6.0, 6.0, 6.0])
         for bad in (-0.1, float("nan"), 3.5, "0"):

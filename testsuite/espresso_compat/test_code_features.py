@@ -13,7 +13,7 @@ class CodeFeatures(ut.TestCase):
 
     def test_modules_import(self):
         for name in ("interactions", "observables", "accumulators", "galilei", "checkpointing",
-                     "io", "code_features", "shapes", "constraints", "integrate", "thermostat",
+                     "io", "code_features", "code_info", "shapes", "constraints", "integrate", "thermostat",
                      "analysis", "cell_system", "particle_data", "system"):
             mod = importlib.import_module("espressomd." + name)
             self.assertIs(getattr(espressomd, name, mod), mod)
@@ -54,6 +54,8 @@ class CodeFeatures(ut.TestCase):
             self.assertEqual(espressomd.has_features(name), name in compiled, name)
             self.assertEqual(espressomd.code_features.has_features(name), name in compiled)
         self.assertTrue(espressomd.has_features(espressomd.features()))
+        import espressomd.code_info
+        self.assertEqual(espressomd.code_info.features(), espressomd.features())
         self.assertEqual(espressomd.missing_features(espressomd.features()), [])
         self.assertEqual(set(espressomd.features()) <= set(espressomd.all_features()), True)
 
