@@ -4,6 +4,7 @@ import unittest as ut
 
 import espressomd
 import espressomd.accumulators
+import espressomd.code_info
 import espressomd.galilei
 import espressomd.observables
 import marble
@@ -54,7 +55,6 @@ class CodeFeatures(ut.TestCase):
             self.assertEqual(espressomd.has_features(name), name in compiled, name)
             self.assertEqual(espressomd.code_features.has_features(name), name in compiled)
         self.assertTrue(espressomd.has_features(espressomd.features()))
-        import espressomd.code_info
         self.assertEqual(espressomd.code_info.features(), espressomd.features())
         self.assertEqual(espressomd.missing_features(espressomd.features()), [])
         self.assertEqual(set(espressomd.features()) <= set(espressomd.all_features()), True)
