@@ -16,7 +16,8 @@ void bind_integrate(py::class_<System> &cls) {
   cls.def("set_steepest_descent", [](System &s, py::object f_max, py::object gamma, py::object max_disp) {
     Marble::SteepestDescentParams p;
     p.f_max = check_double("f_max", to_double("f_max", f_max), 0., INFINITY);
-    p.gamma = check_double("gamma", to_double("gamma", gamma), 0., INFINITY, true);
+    // gamma = 0 is allowed (as in ESPResSo): the descent then only evaluates forces
+    p.gamma = check_double("gamma", to_double("gamma", gamma), 0., INFINITY);
     p.max_displacement = check_double("max_displacement", to_double("max_displacement", max_disp), 0., INFINITY, true);
     s.set_integrator_sd(p);
   }, "f_max"_a, "gamma"_a, "max_displacement"_a);
@@ -37,6 +38,14 @@ void bind_integrate(py::class_<System> &cls) {
     if (n < 0 || n > 2000000000LL)
       value_error("parameter 'steps' must be an integer in [0, 2e9], got " + std::to_string(n));
     py::gil_scoped_release release;
+    if (n == 0 && s.integrator() == IntegratorKind::SteepestDescent) {
+      // run(0) evaluates the forces with every integrator (as in ESPResSo);
+      // steepest descent's exclude the thermostat, so they are not kept for MD
+      s.check_scene_before_run();
+      s.compute_forces(false);
+      s.on_change();
+      return 0;
+    }
     return s.run(static_cast<int>(n), recalc_forces);
   }, "steps"_a, "recalc_forces"_a = false);
   cls.def("set_shardlow", [](System &s) {

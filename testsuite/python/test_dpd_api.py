@@ -152,7 +152,7 @@ class DPDApi(unittest.TestCase):
         f_c = c.part.all().f  # equal up to the order of the pair sums
         np.testing.assert_allclose(s.part.all().f, f_c, rtol=0, atol=1e-13 * np.abs(f_c).max())
         self.assertGreater(np.abs(f_on - f_c).max(), 1.0)
-        np.testing.assert_array_equal(s.analysis.dpd_stress()["total"], np.zeros((3, 3)))
+        np.testing.assert_array_equal(s.analysis.dpd_stress_split()["total"], np.zeros((3, 3)))
         if not has_hat:
             np.testing.assert_array_equal(s.part.all().f, 0.0)
         # the counter advances with every step, thermostat on or off
@@ -187,7 +187,8 @@ class DPDApi(unittest.TestCase):
         p.pos = [[1.0, 1.0, 1.0], [1.6, 1.3, 0.8]]
         p.v = [[0.5, 0.2, -0.1], [-0.3, 0.0, 0.4]]  # approaching: repulsive friction
         s.integrator.run(0)
-        st = s.analysis.dpd_stress()
+        st = s.analysis.dpd_stress_split()
+        np.testing.assert_array_equal(s.analysis.dpd_stress(), st["friction"])
         d = np.array([-0.6, -0.3, 0.2])
         np.testing.assert_allclose(st["total"], np.outer(d, p.f[0]) / L**3, rtol=1e-13,
                                    atol=0)
@@ -215,7 +216,8 @@ class DPDApi(unittest.TestCase):
                     xi = noise(42, counter, ids[i], ids[j])
                     fric += np.outer(dd, ref_force(prm, dd, vel[i] - vel[j], 0 * xi, 1.3, 0.01))
                     rnd += np.outer(dd, ref_force(prm, dd, 0 * xi, xi, 1.3, 0.01))
-            st = s.analysis.dpd_stress()
+            st = s.analysis.dpd_stress_split()
+            np.testing.assert_array_equal(s.analysis.dpd_stress(), st["friction"])
             for key, ref in (("friction", fric), ("noise", rnd), ("total", fric + rnd)):
                 np.testing.assert_allclose(st[key], ref / L**3, rtol=0,
                                            atol=1e-12 * np.abs(ref).max() / L**3, err_msg=key)

@@ -52,11 +52,26 @@ def test_active_features_respect_relations():
 
 
 @pytest.mark.parametrize("bad", ["FOO", "lennard_jones", "", "DPD_MASS"])
-def test_unknown_feature_name_raises(bad):
-    with pytest.raises(ValueError, match="unknown feature"):
+def test_unknown_feature_name_is_missing(bad):
+    """ESPResSo behaviour: a name Marble does not know is not compiled in."""
+    assert marble.has_features(bad) is False
+    assert marble.has_features(["DPD", bad]) is False
+    assert marble.missing_features("DPD", bad)[-1] == bad
+    with pytest.raises(marble.FeaturesError, match=bad or "missing"):
+        marble.assert_features(bad)
+
+
+@pytest.mark.parametrize("bad", [1, None, 2.5, b"DPD"])
+def test_non_string_feature_name_raises(bad):
+    with pytest.raises(ValueError, match="feature names must be strings"):
         marble.has_features(bad)
-    with pytest.raises(ValueError):
-        marble.has_features(["DPD", bad])
+    with pytest.raises(ValueError, match="feature names must be strings"):
+        marble.missing_features(["DPD", bad])
+
+
+def test_espresso_alias():
+    assert marble.has_features("EXTERNAL_FORCES") == marble.has_features("EXTERNAL_FORCE")
+    assert marble.missing_features(list(marble.features())) == []
 
 
 def test_assert_features():
@@ -65,7 +80,7 @@ def test_assert_features():
     if missing:
         with pytest.raises(marble.FeaturesError, match=missing[0]):
             marble.assert_features(missing[0])
-    with pytest.raises(ValueError):
+    with pytest.raises(marble.FeaturesError, match="NOT_A_FEATURE"):
         marble.assert_features("NOT_A_FEATURE")
 
 

@@ -29,6 +29,10 @@ def _check_obs(name, obs):
     if not isinstance(obs, Observable):
         raise ValueError(f"parameter '{name}' must be a marble.observables observable, "
                          f"got {type(obs).__name__}")
+    if obs._obs is None:
+        raise ValueError(f"parameter '{name}': {type(obs).__name__} is evaluated in Python and "
+                         f"cannot be sampled by the C++ accumulators; call calculate() in a "
+                         f"Python loop around integrator.run")
     return obs
 
 
@@ -72,7 +76,7 @@ class Correlator(_Accumulator):
         Sampling interval in steps; sample spacing dt = delta_N * system.time_step.
     corr_operation : "scalar_product" (sum over all values, result (n_lags, 1)),
         "componentwise_product" or "square_distance_componentwise" (result
-        (n_lags, *obs.shape())).
+        (n_lags, \\*obs.shape())).
     compress1, compress2 : "discard1" (keep the newer of two values, default),
         "discard2" (keep the older) or "linear" (average).
     """
@@ -112,26 +116,32 @@ class Correlator(_Accumulator):
 
     @property
     def obs1(self):
+        """The first observable."""
         return self._obs_py
 
     @property
     def obs2(self):
+        """The second observable (``obs1`` for an autocorrelation)."""
         return self._obs2_py if self._obs2_py is not None else self._obs_py
 
     @property
     def tau_lin(self):
+        """Number of lags per level of the multiple-tau hierarchy."""
         return self._acc.tau_lin
 
     @property
     def tau_max(self):
+        """Largest lag time to cover (the lags reach at least tau_max)."""
         return self._acc.tau_max
 
     @property
     def corr_operation(self):
+        """The correlation operation (``scalar_product``, ``componentwise_product``, ``square_distance_componentwise``)."""
         return self._acc.corr_operation
 
     @property
     def hierarchy_depth(self):
+        """Number of levels of the multiple-tau hierarchy."""
         return self._acc.hierarchy_depth
 
     @property
@@ -140,11 +150,12 @@ class Correlator(_Accumulator):
         return self._acc.n_samples
 
     def get_params(self):
+        """The constructor parameters, as a dict."""
         return dict(self._params, obs1=self.obs1, obs2=self.obs2)
 
     def result(self):
         """Correlation for each lag, shape (n_lags, 1) for scalar_product, else
-        (n_lags, *obs1.shape()). NaN for lags not reached yet."""
+        (n_lags, \\*obs1.shape()). NaN for lags not reached yet."""
         return self._acc.result()
 
     def lag_times(self):
@@ -177,14 +188,16 @@ class TimeSeries(_Accumulator):
         self._acc = _marble.TimeSeries(self._obs_py._obs, kwargs.get("delta_N", 1))
 
     def time_series(self):
-        """Samples, shape (n_samples, *obs.shape())."""
+        """Samples, shape (n_samples, \\*obs.shape())."""
         return self._acc.time_series()
 
     def clear(self):
+        """Drop every stored sample."""
         self._acc.clear()
 
     @property
     def n_samples(self):
+        """Number of samples stored."""
         return self._acc.n_samples
 
 
@@ -203,6 +216,7 @@ class MeanVarianceCalculator(_Accumulator):
         self._acc = _marble.MeanVarianceCalculator(self._obs_py._obs, kwargs.get("delta_N", 1))
 
     def mean(self):
+        """Running mean of the samples (shape of the observable)."""
         return self._acc.mean()
 
     def variance(self):
@@ -216,6 +230,7 @@ class MeanVarianceCalculator(_Accumulator):
 
     @property
     def n_samples(self):
+        """Number of samples taken."""
         return self._acc.n_samples
 
 
@@ -228,6 +243,7 @@ class AutoUpdateAccumulators:
         _register_system(system)
 
     def add(self, accumulator):
+        """Sample ``accumulator`` every ``accumulator.delta_N`` steps inside ``integrator.run``."""
         if not isinstance(accumulator, _Accumulator):
             raise ValueError("only marble.accumulators objects can be added, got "
                              f"{type(accumulator).__name__}")
@@ -242,12 +258,14 @@ class AutoUpdateAccumulators:
         self._list.append(accumulator)
 
     def remove(self, accumulator):
+        """Stop sampling ``accumulator``."""
         if accumulator not in self._list:
             raise ValueError("this accumulator is not in auto_update_accumulators")
         self._system._core.auto_update_remove(accumulator._acc)
         self._list.remove(accumulator)
 
     def clear(self):
+        """Stop sampling every accumulator."""
         self._system._core.auto_update_clear()
         self._list.clear()
 

@@ -24,6 +24,7 @@ def _type_list(types, name):
 
 
 class Analysis:
+    """``system.analysis``: energies, pressure, DPD stress, temperature, momentum, distances."""
     def __init__(self, system):
         self._system = system
         self._core = system._core
@@ -42,11 +43,20 @@ class Analysis:
         return {k: float(np.trace(v)) / 3.0 for k, v in self.pressure_tensor().items()}
 
     def dpd_stress(self):
-        """DPD part of the pressure tensor (3x3 arrays): 'friction', 'noise' and
-        'total' = their sum, each (1/V) sum_pairs d_ij (x) F_ij with d_ij = r_i - r_j
-        and F_ij the DPD force on i, from the current velocities and the noise of
-        the current step (doc/dpd.md). Same sign as ``pressure_tensor()``: the
-        stress is minus this. Zero when the DPD thermostat is off."""
+        """Viscous DPD stress (3x3 numpy array), as ESPResSo returns it:
+        (1/V) sum_pairs d_ij (x) F_ij with d_ij = r_i - r_j and F_ij the DPD
+        friction force on i (radial and transverse) of the current velocities,
+        without the noise (doc/dpd.md). Same sign as ``pressure_tensor()``.
+        Zero when the DPD thermostat is off. :meth:`dpd_stress_split` gives the
+        friction and noise parts separately. Feature DPD."""
+        return np.array(self._core.dpd_stress()["friction"])
+
+    def dpd_stress_split(self):
+        """DPD part of the pressure tensor (3x3 arrays): 'friction' (what
+        :meth:`dpd_stress` returns), 'noise' (the random forces of the current
+        step) and 'total' = their sum, each (1/V) sum_pairs d_ij (x) F_ij.
+        The full pressure tensor of a DPD fluid is
+        ``pressure_tensor()["total"] + dpd_stress_split()["total"]``."""
         return dict(self._core.dpd_stress())
 
     def check_scene(self):

@@ -1,25 +1,57 @@
 """Cell system: a regular cell grid with Verlet lists and a skin."""
+import numbers
+
+#: Verlet skin the lists use when a script sets ``skin = 0`` (Marble's default).
+ZERO_SKIN_EFFECTIVE = 0.4
 
 
 class CellSystem:
+    """``system.cell_system``: the Verlet skin and the domain decomposition."""
+
     def __init__(self, system):
         self._system = system
 
     @property
     def skin(self):
-        """Verlet-list skin (> 0, at most box_l/2). Lists are rebuilt when a
-        particle has moved more than skin/2; a particle moving farther than the
-        skin in one step stops the run (a blow-up)."""
+        """Verlet-list skin in [0, box_l/2]. Lists are rebuilt when a particle
+        has moved more than skin/2; a particle moving farther than the skin in
+        one step stops the run (a blow-up).
+
+        ``skin = 0`` (accepted for ESPResSo scripts) reads back 0 but the lists
+        then use a skin of min(0.4, box_l/2) internally: the forces are the same
+        for every skin (a pair enters the list before it is within the cutoff),
+        and Marble's blow-up check needs a distance a particle may move per step
+        (doc/porting-from-espresso.md)."""
+        if self._system.__dict__.get("_skin_zero", False):
+            return 0.0
         return self._system._core.skin
 
     @skin.setter
     def skin(self, value):
-        self._system._core.skin = value
+        core = self._system._core
+        if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
+            core.skin = min(ZERO_SKIN_EFFECTIVE, 0.5 * float(min(core.box_l)))
+            self._system.__dict__["_skin_zero"] = True
+            return
+        core.skin = value  # validated in C++: (0, box_l/2]
+        self._system.__dict__["_skin_zero"] = False
+
+    @property
+    def effective_skin(self):
+        """The skin the Verlet lists use (differs from ``skin`` only after ``skin = 0``)."""
+        return self._system._core.skin
 
     def set_regular_decomposition(self, use_verlet_lists=True):
-        """Marble always uses a regular cell grid with Verlet lists."""
-        if not use_verlet_lists:
-            raise ValueError("parameter 'use_verlet_lists' must be True (Marble always uses them)")
+        """Accepted for ESPResSo scripts: Marble always uses a regular cell grid
+        with Verlet lists. ``use_verlet_lists=False`` is accepted too; the forces
+        are the same with or without lists (only the speed differs)."""
+        if not isinstance(use_verlet_lists, (bool, int)):
+            raise ValueError("parameter 'use_verlet_lists' must be a bool")
+
+    def set_n_square(self, use_verlet_lists=True):
+        """Accepted for ESPResSo scripts: Marble keeps its regular cell grid,
+        which finds the same pairs as ESPResSo's N-square cell system."""
+        self.set_regular_decomposition(use_verlet_lists)
 
     @property
     def node_grid(self):
@@ -38,7 +70,8 @@ class CellSystem:
         return list(self._system._core.local_ids())
 
     def get_state(self):
+        """Cell-system parameters and counters (a dict)."""
         core = self._system._core
-        return {"type": "RegularDecomposition", "skin": core.skin,
+        return {"type": "RegularDecomposition", "skin": self.skin, "effective_skin": core.skin,
                 "n_cells": list(core.n_cells()), "max_cut": core.max_cut(),
                 "verlet_rebuilds": core.n_rebuilds(), "node_grid": list(core.node_grid())}

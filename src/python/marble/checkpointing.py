@@ -172,6 +172,7 @@ class Checkpoint:
                 self._registered.append(name)
 
     def unregister(self, *names):
+        """Stop saving the named objects."""
         for name in names:
             if name not in self._registered:
                 raise ValueError(f"'{name}' is not registered")

@@ -1,6 +1,15 @@
-"""Compile-time features of this build (see doc/features.md)."""
+"""Compile-time features of this build (see doc/features.md).
+
+``has_features`` follows ESPResSo: a name Marble does not know answers False
+(the feature is not compiled in), so a script written for ESPResSo can ask for
+``ELECTROSTATICS`` and skip what needs it. ESPResSo's spellings of Marble's
+features are accepted as aliases (``EXTERNAL_FORCES`` for ``EXTERNAL_FORCE``).
+"""
 from . import _marble
 from ._marble import FeaturesError
+
+#: ESPResSo 4.2 feature names that Marble spells differently (ESPResSo -> Marble).
+ESPRESSO_ALIASES = {"EXTERNAL_FORCES": "EXTERNAL_FORCE"}
 
 
 def features():
@@ -13,29 +22,44 @@ def all_features():
     return list(_marble.all_features())
 
 
-def has_features(*names):
-    """True if every named feature is compiled in.
-
-    Accepts names or lists of names; an unknown name raises ValueError.
-    """
+def _flatten(names):
+    """Names or lists of names -> one list of strings (ValueError for anything else)."""
     flat = []
     for n in names:
-        if isinstance(n, (list, tuple, set)):
+        if isinstance(n, (list, tuple, set, frozenset)):
             flat.extend(n)
         else:
             flat.append(n)
-    known = set(all_features())
     for n in flat:
-        if n not in known:
-            raise ValueError(f"unknown feature '{n}' (known: {', '.join(sorted(known))})")
+        if not isinstance(n, str):
+            raise ValueError(f"feature names must be strings, got {n!r} ({type(n).__name__})")
+    return flat
+
+
+def _canonical(name):
+    return ESPRESSO_ALIASES.get(name, name)
+
+
+def has_features(*names):
+    """True if every named feature is compiled in.
+
+    Accepts names or lists of names. A name Marble does not know answers False
+    (as in ESPResSo); ESPResSo's spellings (``EXTERNAL_FORCES``) are accepted.
+    A name that is not a string raises ValueError.
+    """
     active = set(features())
-    return all(n in active for n in flat)
+    return all(_canonical(n) in active for n in _flatten(names))
+
+
+def missing_features(*names):
+    """The named features that are not compiled in (a list, in the order given;
+    unknown names are missing)."""
+    active = set(features())
+    return [n for n in _flatten(names) if _canonical(n) not in active]
 
 
 def assert_features(*names):
-    """Raise FeaturesError naming the first missing feature."""
-    has_features(*names)  # validates the names
-    active = set(features())
-    for n in names if not (len(names) == 1 and isinstance(names[0], (list, tuple))) else names[0]:
-        if n not in active:
-            raise FeaturesError(f"missing feature {n}")
+    """Raise FeaturesError naming the missing features."""
+    missing = missing_features(*names)
+    if missing:
+        raise FeaturesError(f"missing feature(s) {', '.join(missing)}")

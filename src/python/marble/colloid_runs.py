@@ -55,6 +55,7 @@ def tau_box(L, eta):
 
 
 def gk_window(L, eta):
+    """Green-Kubo integration window (3, 6) x tau_box(L, eta)."""
     tb = tau_box(L, eta)
     return (3.0 * tb, 6.0 * tb)
 
@@ -67,10 +68,12 @@ def msd_window(L, eta, t_max, paper=False):
 
 
 class Progress:
+    """Prints steps done, elapsed time and ETA of a long run."""
     def __init__(self, total_steps, label=""):
         self.total, self.done, self.t0, self.label = total_steps, 0, time.time(), label
 
     def advance(self, steps):
+        """Count ``steps`` more steps and print the progress line."""
         self.done += steps
         el = time.time() - self.t0
         eta = el / self.done * (self.total - self.done)
@@ -145,6 +148,7 @@ def drag_run(system, colloid, force, t_prod, t_equil=20.0, delta_N=10):
 
 
 def rows(a):
+    """``a`` as a 2D float array (one row per chunk)."""
     return np.atleast_2d(np.asarray(a, dtype=float))
 
 
@@ -193,6 +197,7 @@ def write_json(path, data):
 
 
 def common_args(description, default_time, paper_time):
+    """Argument parser with the options the paper samples share."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--paper", action="store_true", help="paper size: R=3, L=20, paper run lengths")
     p.add_argument("--time", type=float, default=None,
@@ -215,6 +220,7 @@ def save_figure(fig, out_dir, name, json_path):
 
 
 def plot_setup():
+    """matplotlib.pyplot with the non-interactive Agg backend."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -16,10 +16,12 @@ class ShapeBasedConstraint:
 
     @property
     def particle_type(self):
+        """Particle type of the wall (its interactions are ``non_bonded_inter[particle_type, t]``)."""
         return self._core.constraint_state(self._id)["particle_type"]
 
     @property
     def velocity(self):
+        """Velocity of the wall (3,)."""
         return np.array(self._core.constraint_state(self._id)["velocity"])
 
     def total_force(self):
@@ -31,6 +33,7 @@ class ShapeBasedConstraint:
 
 
 class Constraints:
+    """``system.constraints``: the walls of the system."""
     def __init__(self, system):
         self._system = system
         self._list = []
@@ -50,10 +53,12 @@ class Constraints:
         return c
 
     def remove(self, constraint):
+        """Remove ``constraint`` from the system."""
         self._system._core.remove_constraint(constraint._id)
         self._list.remove(constraint)
 
     def clear(self):
+        """Remove every constraint."""
         self._system._core.clear_constraints()
         self._list.clear()
 

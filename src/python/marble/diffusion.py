@@ -33,6 +33,7 @@ class BlockingResult(Result):
 
     @property
     def mean(self):
+        """The mean (same as ``value``)."""
         return self.value
 
     def __iter__(self):
@@ -229,7 +230,7 @@ def measure_drag(system, colloids, force, steps, solvent=None, equilibration_ste
     ``equilibration_steps``, then ``steps`` more, sampling every ``delta_N``
     steps the mean colloid velocity relative to the solvent's centre-of-mass
     velocity, projected on the force. Blocking gives v and its error;
-    zeta = |F|/v and D = kT/zeta (in the periodic box: compare with
+    zeta = ``|F|``/v and D = kT/zeta (in the periodic box: compare with
     theory.diffusion_coefficient at this L). The previous ext_force values are
     restored afterwards (restore=False keeps the drive on).
 

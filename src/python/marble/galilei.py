@@ -5,8 +5,19 @@ from .code_features import has_features
 
 
 class GalileiTransform:
-    def __init__(self, system):
-        self._system = system
+    """Momentum and force removal: ``system.galilei``, or on its own as in
+    ESPResSo, ``marble.galilei.GalileiTransform()``, which acts on the most
+    recently created System that is still alive (or on ``system=``)."""
+
+    def __init__(self, system=None):
+        self._given = system
+
+    @property
+    def _system(self):
+        if self._given is not None:
+            return self._given
+        from .observables import _resolve_system
+        return _resolve_system(None)
 
     def kill_particle_motion(self, rotation=False):
         """Set all velocities (and with rotation=True the angular velocities) to zero."""

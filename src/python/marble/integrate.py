@@ -1,31 +1,89 @@
 """Integrators: ``system.integrator``."""
+import sys
+import time
+
+
+class IntegratorParameterError(ValueError, RuntimeError):
+    """Bad or missing integrator parameter. A ``ValueError`` (Marble's
+    convention for bad input) that is also a ``RuntimeError`` (what ESPResSo
+    4.2 raises for these), so scripts written for either catch it."""
+
+
+def _progress_line(done, total, elapsed):
+    rate = done / elapsed if elapsed > 0 else float("inf")
+    eta = (total - done) / rate if rate > 0 and rate != float("inf") else 0.0
+    return (f"\rstep {done}/{total} ({100.0 * done / total:5.1f}%), "
+            f"{rate:.4g} steps/s, ETA {eta:.1f} s")
 
 
 class Integrator:
+    """``system.integrator``: velocity Verlet, steepest descent, Shardlow and DPD-VV, and ``run``."""
     def __init__(self, system):
         self._core = system._core
 
-    def run(self, steps=1, recalc_forces=False):
-        """Integrate ``steps`` steps (int >= 0); ``run(0)`` only recomputes forces.
+    def run(self, steps=1, recalc_forces=False, reuse_forces=False, progress=False):
+        """Integrate ``steps`` steps (int >= 0); ``run(0)`` only computes forces
+        (with every integrator, steepest descent included).
 
         With steepest descent, stops early when the largest force is below
         ``f_max`` and returns the number of steps done.
+        ``reuse_forces`` is accepted for ESPResSo scripts: Marble always reuses
+        the forces of the last step while they are valid, and recomputes them
+        when a parameter or particle changed; ``recalc_forces=True`` together
+        with ``reuse_forces=True`` raises ValueError.
+        ``progress=True`` runs in chunks of about 1% and prints the steps done,
+        the rate and the estimated time left to stderr (rank 0 only); the
+        trajectory is the same as one run (the noise is keyed by the step).
         Raises RuntimeError naming the step and particle if the run blows up;
         the system stays usable (fix the cause and run again).
         """
-        return self._core.run(steps, recalc_forces)
+        if recalc_forces and reuse_forces:
+            raise ValueError("cannot reuse old forces and recalculate forces: "
+                             "set at most one of 'recalc_forces' and 'reuse_forces'")
+        if not progress:
+            return self._core.run(steps, recalc_forces)
+        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+            return self._core.run(steps, recalc_forces)  # validates / run(0)
+        from ._marble import mpi_rank
+        show = mpi_rank() == 0
+        chunk = max(1, steps // 100)
+        done, t0, last = 0, time.perf_counter(), 0.0
+        sd = self._core.integrator_name() == "SteepestDescent"
+        while done < steps:
+            n = min(chunk, steps - done)
+            did = self._core.run(n, recalc_forces and done == 0)
+            done += did
+            now = time.perf_counter()
+            if show and (now - last > 0.5 or done >= steps or (sd and did < n)):
+                sys.stderr.write(_progress_line(done, steps, now - t0))
+                sys.stderr.flush()
+                last = now
+            if sd and did < n:  # converged
+                break
+        if show:
+            sys.stderr.write("\n")
+        return done
 
     def set_vv(self):
         """Velocity Verlet (the default)."""
         self._core.set_vv()
 
     def set_steepest_descent(self, f_max=None, gamma=None, max_displacement=None):
-        """Steepest descent: x += clip(gamma F, +-max_displacement) until max |F| < f_max.
+        """Steepest descent: x += clip(gamma F, +-max_displacement) until max ``|F|`` < f_max.
+
+        ``f_max`` in [0, inf), ``gamma`` in [0, inf), ``max_displacement`` in
+        (0, inf), all required. A missing or out-of-range parameter raises
+        :class:`IntegratorParameterError` (both ValueError and RuntimeError).
         Thermostat forces are not applied during the descent."""
         for name, val in (("f_max", f_max), ("gamma", gamma), ("max_displacement", max_displacement)):
             if val is None:
-                raise ValueError(f"parameter '{name}' is required")
-        self._core.set_steepest_descent(f_max, gamma, max_displacement)
+                raise IntegratorParameterError(
+                    f"Parameter '{name}' is missing: set_steepest_descent needs f_max, gamma "
+                    f"and max_displacement")
+        try:
+            self._core.set_steepest_descent(f_max, gamma, max_displacement)
+        except ValueError as err:
+            raise IntegratorParameterError(str(err)) from None
 
     def set_shardlow(self):
         """Shardlow S1 splitting for DPD (doc/stability.md): each step first
@@ -45,6 +103,7 @@ class Integrator:
         self._core.set_dpd_vv()
 
     def get_state(self):
+        """The active integrator: ``{"name": ...}`` plus steepest descent's parameters."""
         name = self._core.integrator_name()
         if name in ("Shardlow", "DPDVV"):
             return {"name": name}

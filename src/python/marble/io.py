@@ -1,4 +1,4 @@
-"""Trajectory output in H5MD (doc/io.md), shaped like ``espressomd.io.writer.h5md``:
+"""Trajectory output in H5MD (doc/io.md), shaped like ``espressomd.io.writer.h5md``::
 
     import marble.io
     h5 = marble.io.H5md(file_path="traj.h5", system=system, fields="all")
@@ -99,6 +99,7 @@ class H5md:
 
     @property
     def file_path(self):
+        """Path of the H5MD file."""
         return self._file.file_path
 
     @property
@@ -108,6 +109,7 @@ class H5md:
 
     @property
     def system(self):
+        """The System written."""
         return self._system
 
     @property
@@ -117,6 +119,7 @@ class H5md:
 
     @property
     def is_open(self):
+        """True until ``close()``."""
         return self._file.is_open
 
     def write(self):

@@ -60,6 +60,7 @@ class Observable:
         return self._obs.calculate(self._system._core)
 
     def shape(self):
+        """Shape of the array ``calculate()`` returns (a tuple)."""
         return tuple(self._obs.shape())
 
     @property
@@ -113,6 +114,24 @@ class ParticleAngularVelocities(_PidObservable):
 class ComVelocity(_PidObservable):
     """Mass-weighted centre-of-mass velocity of the ids, shape (3,)."""
     _core_class = _marble.ComVelocity
+
+
+class DPDStress(Observable):
+    """Viscous DPD stress tensor, shape (3, 3): ``system.analysis.dpd_stress()``
+    (friction of the current velocities, no noise; the ESPResSo observable).
+    Feature DPD. Evaluated in Python: ``calculate()`` works anywhere, but the
+    C++ accumulators cannot sample it (ValueError); sample it in a Python
+    loop around ``integrator.run``."""
+
+    def _make(self, kwargs):
+        return None
+
+    def calculate(self):
+        return self._system.analysis.dpd_stress()
+
+    def shape(self):
+        """(3, 3)"""
+        return (3, 3)
 
 
 def _restore_observable(cls, system, kwargs):

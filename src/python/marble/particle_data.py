@@ -68,6 +68,15 @@ def _make_slice_property(name):
     return property(getter, setter, doc=doc)
 
 
+def _no_virtual_sites(value):
+    """ESPResSo's ``virtual`` flag: Marble has no virtual sites, so every
+    particle reads False and setting True raises FeaturesError."""
+    if np.any(np.asarray(value, dtype=bool)):
+        from ._marble import FeaturesError
+        raise FeaturesError("missing feature VIRTUAL_SITES: Marble has no virtual sites "
+                            "(particle property 'virtual' can only be False)")
+
+
 class ParticleHandle:
     """One particle, addressed by its id. Attributes read and write the core."""
 
@@ -80,6 +89,7 @@ class ParticleHandle:
 
     @property
     def id(self):
+        """The particle's id (int, read-only)."""
         return self._id
 
     def remove(self):
@@ -87,6 +97,7 @@ class ParticleHandle:
         self._core.remove_particles([self._id])
 
     def to_dict(self):
+        """Every compiled-in property of the particle, as a dict."""
         out = {}
         for name in self._core.property_names():
             out[name] = getattr(self, name)
@@ -118,6 +129,7 @@ class ParticleSlice:
 
     @property
     def id(self):
+        """Ids of the particles in the slice (numpy int array)."""
         return np.array(self._ids, dtype=int)
 
     def __len__(self):
@@ -149,6 +161,23 @@ for _name in _PROPERTIES:
         setattr(ParticleSlice, _name, _make_slice_property(_name))
 
 
+def _handle_virtual_set(self, value):
+    _no_virtual_sites(value)
+
+
+def _slice_virtual_set(self, value):
+    _no_virtual_sites(value)
+
+
+ParticleHandle.virtual = property(
+    lambda self: False, _handle_virtual_set,
+    doc="Always False: Marble has no virtual sites (setting True raises FeaturesError "
+        "naming VIRTUAL_SITES).")
+ParticleSlice.virtual = property(
+    lambda self: np.zeros(len(self._ids), dtype=bool), _slice_virtual_set,
+    doc="All False: Marble has no virtual sites (setting True raises FeaturesError).")
+
+
 class ParticleList:
     """``system.part``: add, look up, select and remove particles."""
 
@@ -169,6 +198,9 @@ class ParticleList:
             kwargs = dict(args[0])
         if "pos" not in kwargs:
             raise ValueError("particle property 'pos' is required")
+        if "virtual" in kwargs:
+            kwargs = dict(kwargs)
+            _no_virtual_sites(kwargs.pop("virtual"))
         try:
             pos = np.asarray(kwargs["pos"], dtype=float)
         except (TypeError, ValueError):
@@ -229,7 +261,17 @@ class ParticleList:
                 mask &= np.isclose(vals, target) if vals.dtype.kind == "f" else vals == target
         return ParticleSlice(self._system, np.asarray(ids)[mask])
 
+    def pairs(self):
+        """Every unordered pair of particles (ParticleHandle, ParticleHandle),
+        ids ascending (i < j): a generator of N (N - 1) / 2 pairs."""
+        ids = self._core.particle_ids()
+        handles = [ParticleHandle(self._system, i) for i in ids]
+        for a in range(len(handles)):
+            for b in range(a + 1, len(handles)):
+                yield handles[a], handles[b]
+
     def exists(self, pid):
+        """True if a particle with id ``pid`` exists."""
         return self._core.particle_exists(int(pid))
 
     def clear(self):
@@ -238,6 +280,7 @@ class ParticleList:
 
     @property
     def highest_particle_id(self):
+        """Highest particle id in use, -1 if there are no particles."""
         return self._core.highest_particle_id()
 
     def __len__(self):

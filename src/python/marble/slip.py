@@ -4,14 +4,16 @@ A channel of DPD fluid between two walls at z = 0 and z = L (normals +z / -z,
 periodic in x and y). A Poiseuille run (body force g along x on every bead) and
 a Couette run (walls moving at -v_w / +v_w along x) give two profiles v_x(z).
 With the partial-slip boundary condition v(z_B) - v_wall = delta_B v'(z_B) at
-z_B and L - z_B (Smiatek, Allen, Schmid 2008; reference.md section 4):
+z_B and L - z_B (Smiatek, Allen, Schmid 2008; reference.md section 4)::
 
   Poiseuille: v(z) = A [(z - z_B)(L - z_B - z) + delta_B (L - 2 z_B)],  A = rho g / (2 eta)
   Couette:    v(z) = v_w (2 z - L) / (L - 2 z_0),   z_0 = z_B - delta_B.
 
 So the Couette line's zero (relative to the wall) is z_0 = z_B - delta_B, the
-parabola's curvature gives eta, and its zero z_P obeys
+parabola's curvature gives eta, and its zero z_P obeys::
+
   z_P (L - z_P) = z_0 (L - z_0) + delta_B^2,
+
 i.e. delta_B^2 = (z_P - z_0)(L - z_P - z_0): the slip length is fixed by how far
 the Poiseuille zero lies inside the Couette zero (z_P - z_0 ~ delta_B^2 / L). The
 difference is small, so both zeros must be measured precisely: the profiles are

@@ -1,4 +1,6 @@
 """The System: the one object a script creates; it owns everything else."""
+import numbers
+
 import numpy as np
 
 from . import _marble
@@ -122,6 +124,11 @@ class System:
         return self._core.step
 
     # --- geometry helpers ---------------------------------------------------
+    def volume(self):
+        """Box volume box_l[0] * box_l[1] * box_l[2] (a float)."""
+        L = self.box_l
+        return float(L[0] * L[1] * L[2])
+
     def _position_of(self, x, name):
         if isinstance(x, ParticleHandle):
             return x.pos_folded
@@ -129,6 +136,36 @@ class System:
         if a.shape != (3,) or not np.all(np.isfinite(a)):
             raise ValueError(f"parameter '{name}' must be a particle or a finite 3-vector")
         return a
+
+    def rotate_system(self, phi=None, theta=None, alpha=None):
+        """Rotate every particle position by the angle ``alpha`` about the axis
+        (sin(theta) cos(phi), sin(theta) sin(phi), cos(theta)) through the
+        centre of mass (unfolded positions, mass-weighted), right-handed; as
+        ESPResSo's ``rotate_system(phi=, theta=, alpha=)``. Velocities are not
+        changed (as in ESPResSo); Marble's particles are isotropic spheres
+        without an orientation, so there is no orientation to rotate.
+        All three angles are required finite numbers (ValueError otherwise)."""
+        angles = {}
+        for name, val in (("phi", phi), ("theta", theta), ("alpha", alpha)):
+            if val is None:
+                raise ValueError(f"parameter '{name}' is required")
+            if isinstance(val, bool) or not isinstance(val, numbers.Real) or \
+                    not np.isfinite(val):
+                raise ValueError(f"parameter '{name}' must be a finite number, got {val!r}")
+            angles[name] = float(val)
+        parts = self.part.all()
+        if len(parts) == 0:
+            return
+        from .code_features import has_features
+        m = np.asarray(parts.mass, dtype=float) if has_features("MASS") else np.ones(len(parts))
+        pos = np.asarray(parts.pos, dtype=float)
+        com = (m[:, None] * pos).sum(axis=0) / m.sum()
+        ph, th, a = angles["phi"], angles["theta"], angles["alpha"]
+        k = np.array([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)])
+        r = pos - com
+        rot = (np.cos(a) * r + np.sin(a) * np.cross(k, r)
+               + (1.0 - np.cos(a)) * np.outer(r @ k, k))
+        parts.pos = com + rot
 
     def distance_vec(self, p1, p2):
         """Minimum-image vector from p1 to p2 (particles or positions)."""

@@ -10,14 +10,17 @@ class DPDThermostatState:
 
     @property
     def kT(self):
+        """Temperature of the DPD thermostat (0 when off)."""
         return self._core.dpd_state().get("kT", 0.0)
 
     @property
     def seed(self):
+        """Seed of the DPD noise (None before the first ``set_dpd``)."""
         return self._core.dpd_state().get("seed")
 
     @property
     def active(self):
+        """True while the DPD thermostat is on."""
         return bool(self._core.dpd_state().get("active", False))
 
     @property
@@ -31,6 +34,7 @@ class DPDThermostatState:
 
 
 class Thermostat:
+    """``system.thermostat``: the DPD pair thermostat (doc/dpd.md)."""
     def __init__(self, system):
         self._core = system._core
         self.dpd = DPDThermostatState(system)
@@ -51,5 +55,6 @@ class Thermostat:
         self._core.thermostat_turn_off()
 
     def get_state(self):
+        """``[{"type": "DPD", "kT", "seed", "active", "philox_counter"}]`` while on, else ``[]``."""
         st = self._core.dpd_state()
         return [dict(type="DPD", **st)] if st.get("active") else []
