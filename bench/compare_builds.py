@@ -1,0 +1,154 @@
+"""Speed of this build against another git ref, interleaved on the same machine.
+
+    build/pymarble bench/compare_builds.py --baseline REF [--rounds 7] [--steps 200]
+
+Builds REF (default: HEAD~1) with the default features in a temporary
+directory (a git worktree + its own build), then runs every case below in a
+fresh process of each build in turn (A B A B ...), so load from other jobs
+hits both alike. Each process sets up one case, relaxes it and times
+integrator.run(steps); the figure is particle-steps per CPU-second of that
+process (process CPU time: the one-core throughput even on a shared
+machine). Reported: the median of the rounds per build and their ratio.
+Writes bench/results/compare_builds.json.
+
+Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
+L = 20: 24 000 beads), Groot-Warren water (a = 25, gamma = 4.5), the LJ fluid of
+LAMMPS's in.lj (32 000 atoms), and the same paper solvent with one R = 3 marble
+colloid (bench/marble_overhead.py's scene: its cost relative to the bare
+solvent is the marble overhead).
+"""
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+CASES = ("dpd_a0_g5", "dpd_a25_g4.5", "lj", "marble")
+
+
+def worker(case, steps):
+    """Set up @p case with the marble of this process, time it, print JSON."""
+    import time
+
+    import numpy as np
+
+    import marble
+    rng = np.random.default_rng(7)
+    if case == "lj":
+        rho, ncell = 0.8442, 20
+        a = (4.0 / rho) ** (1.0 / 3.0)
+        basis = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+        g = np.arange(ncell)
+        cells = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
+        pos = (cells[:, None, :] + basis[None, :, :]).reshape(-1, 3) * a
+        s = marble.System(box_l=[ncell * a] * 3)
+        s.time_step = 0.005
+        s.cell_system.skin = 0.3
+        v = rng.normal(size=pos.shape) * np.sqrt(1.44)
+        s.part.add(pos=pos, v=v - v.mean(axis=0))
+        s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2.5, shift=0.0)
+        s.integrator.run(20)
+    else:
+        L = 20.0
+        n = int(3 * L ** 3)
+        s = marble.System(box_l=[L] * 3)
+        s.time_step = 0.01
+        s.cell_system.skin = 0.6
+        s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
+        s.thermostat.set_dpd(kT=1.0, seed=7)
+        gamma = 4.5 if case == "dpd_a25_g4.5" else 5.0
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma, k=1.0, r_cut=1.0)
+        if case == "dpd_a25_g4.5":
+            s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
+        if case == "marble":
+            from marble.colloids import add_marble
+            add_marble(s, pos=[L / 2] * 3, radius=3.0, gamma=5.0)
+        s.integrator.run(60)
+        s.cell_system.skin = 0.4
+        s.integrator.run(20)
+    n = len(s.part)
+    c0 = time.process_time()
+    s.integrator.run(steps)
+    print(json.dumps({"case": case, "rate": n * steps / (time.process_time() - c0)}))
+
+
+def build_ref(ref, where):
+    """Worktree of @p ref at @p where/src, built in @p where/build; returns its launcher."""
+    src, bld = os.path.join(where, "src"), os.path.join(where, "build")
+    subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", src, ref], check=True,
+                   capture_output=True)
+    subprocess.run(["cmake", "-S", src, "-B", bld, "-DCMAKE_BUILD_TYPE=Release",
+                    f"-DPython3_EXECUTABLE={sys.executable}",
+                    f"-DMARBLE_MYCONFIG={os.path.join(src, 'maintainer/configs/default.hpp')}"],
+                   check=True, capture_output=True)
+    subprocess.run(["make", "-C", bld, f"-j{os.cpu_count()}"], check=True, capture_output=True)
+    return os.path.join(bld, "pymarble")
+
+
+def run_case(launcher, case, steps):
+    p = subprocess.run([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)],
+                       capture_output=True, text=True, check=True)
+    return json.loads(p.stdout.strip().splitlines()[-1])["rate"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--baseline", default="HEAD~1", help="git ref to compare with (default HEAD~1)")
+    ap.add_argument("--baseline-build", help="an existing build dir of the baseline (skips building)")
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--worker", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.worker:
+        return worker(args.worker, args.steps)
+    current = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
+        __import__("marble").__file__))), os.pardir, os.pardir, "pymarble")
+    current = os.path.normpath(current)
+    tmp = None
+    if args.baseline_build:
+        base = os.path.join(args.baseline_build, "pymarble")
+    else:
+        tmp = tempfile.mkdtemp(prefix="marble-baseline-")
+        print(f"building {args.baseline} in {tmp} ...", flush=True)
+        base = build_ref(args.baseline, tmp)
+    cases = args.cases.split(",")
+    samples = {c: {"current": [], "baseline": []} for c in cases}
+    try:
+        for r in range(args.rounds):
+            for c in cases:
+                for who, launcher in (("current", current), ("baseline", base)):
+                    samples[c][who].append(run_case(launcher, c, args.steps))
+            print(f"round {r + 1}/{args.rounds}: " + ", ".join(
+                f"{c} {samples[c]['current'][-1]:.3g}/{samples[c]['baseline'][-1]:.3g}" for c in cases),
+                flush=True)
+    finally:
+        if tmp:
+            subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", os.path.join(tmp, "src")],
+                           capture_output=True)
+            shutil.rmtree(tmp, ignore_errors=True)
+    out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps, "cases": {}}
+    print(f"\nparticle-steps per CPU-second, median of {args.rounds} interleaved rounds")
+    print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}")
+    for c in cases:
+        mc, mb = (statistics.median(samples[c][w]) for w in ("current", "baseline"))
+        out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c])
+        print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}")
+    if "marble" in cases and "dpd_a0_g5" in cases:
+        for w in ("current", "baseline"):
+            ov = out["cases"]["dpd_a0_g5"][w] / out["cases"]["marble"][w]
+            out[f"marble_overhead_{w}"] = ov
+            print(f"marble overhead ({w}): x{ov:.3f} time per particle-step of the bare solvent")
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "compare_builds.json"), "w") as f:
+        json.dump(out, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
