@@ -9,3 +9,4 @@
 #define DPD_MASS_RED
 #define MARBLE
 #define TUNABLE_SLIP
+#define SRD

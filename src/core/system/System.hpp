@@ -20,6 +20,7 @@
 namespace Marble {
 
 class System;
+namespace Srd { class Fluid; } // SRD
 
 /** Something updated automatically during integration (accumulators,
  * correlators): update() is called after every step whose number is a
@@ -158,6 +159,9 @@ public:
   Colloids const &colloids() const { return m_colloids; }
   /** Marble coupling of colloid type @p c with solvent type @p s (validated by the caller). */
   void set_marble(int c, int s, MarbleParams const &p);
+#endif
+#ifdef SRD
+  std::shared_ptr<Srd::Fluid> srd; // SRD: the SRD solvent (srd/Fluid.hpp), null if none
 #endif
   Constraints &constraints() { return m_constraints; }
   /** Call after adding/removing walls: their types leave the main Verlet list. */

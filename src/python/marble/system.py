@@ -61,6 +61,8 @@ class System:
         the walls' shapes, the accumulators in ``auto_update_accumulators``
         (with their full state) and any attribute a script added. Collective
         in an MPI run: every rank's particles are gathered."""
+        if self._core.srd_active():  # SRD
+            raise RuntimeError("checkpointing a system with an SRD fluid is not supported yet")
         extra = {k: v for k, v in self.__dict__.items() if k not in self._wrappers}
         state = {"constraints": [(c._id, c.shape) for c in self.constraints],
                  "accumulators": list(self.auto_update_accumulators),
@@ -74,6 +76,16 @@ class System:
         for acc in state["accumulators"]:
             self.auto_update_accumulators._restore(acc)
         self.__dict__.update(state["extra"])
+
+    # --- SRD solvent (marble.srd.SRDFluid; None if none) -------------------  # SRD
+    @property
+    def srd(self):
+        return self.__dict__.get("_srd")
+
+    @srd.setter
+    def srd(self, fluid):
+        from .srd import _attach
+        _attach(self, fluid)
 
     # --- parameters -------------------------------------------------------
     @property
