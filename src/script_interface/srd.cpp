@@ -243,7 +243,7 @@ void bind_srd(py::class_<System> &cls) {
     std::string rule = "stochastic";
     if (kw.contains("rule")) {
       if (!py::isinstance<py::str>(kw["rule"]))
-        value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip'");
+        value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough'");
       rule = kw["rule"].cast<std::string>();
     }
     if (rule == "stochastic")
@@ -252,8 +252,11 @@ void bind_srd(py::class_<System> &cls) {
       b.rule = Marble::Srd::BoundaryRule::bounce_back;
     else if (rule == "slip")
       b.rule = Marble::Srd::BoundaryRule::slip;
+    else if (rule == "rough")
+      b.rule = Marble::Srd::BoundaryRule::rough;
     else
-      value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', got '" + rule + "'");
+      value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough', got '" +
+                  rule + "'");
     b.active = true;
     f.set_boundary(c, t, b);
   });
@@ -266,7 +269,7 @@ void bind_srd(py::class_<System> &cls) {
     auto const b = s.srd->boundary(c, t);
     if (!b.active)
       return d;
-    static char const *names[] = {"stochastic", "bounce_back", "slip"};
+    static char const *names[] = {"stochastic", "bounce_back", "slip", "rough"};
     d["radius"] = b.radius;
     d["rule"] = names[static_cast<int>(b.rule)];
     return d;

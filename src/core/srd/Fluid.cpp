@@ -239,6 +239,19 @@ void Fluid::stream(System &s, double dt) {
         vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
       } else if (b.rule == BoundaryRule::bounce_back) {
         vn = 2. * vloc - v[i];
+      } else if (b.rule == BoundaryRule::rough) {
+        // mean tangential transfer of a rough-sphere collision (fraction 2K
+        // of the relative tangential velocity reversed); the rest redrawn
+        // from the Maxwellian so the rule keeps detailed balance
+        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+        double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+        t1 *= 1. / t1.norm();
+        Vector3d const t2 = cross(nrm, t1);
+        Vector3d const vr = v[i] - vloc;
+        Vector3d const vr_n = (vr * nrm) * nrm;
+        vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
       } else { // slip: specular reflection in the frame of the surface
         double const vr = (v[i] - vloc) * nrm;
         vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];

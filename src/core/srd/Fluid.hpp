@@ -30,7 +30,13 @@ class ParticleStore;
 namespace Srd {
 
 enum class CollisionRule { srd, at };
-enum class BoundaryRule { stochastic, bounce_back, slip };
+// stochastic: seed 003 eqs. (1), (2) (diffuse, thermalising, stick);
+// bounce_back: relative velocity reversed (stick); slip: specular;
+// rough: Enskog's rough-sphere collision on average (normal reversed, a
+// fraction 2K, K = chi/(1 + chi), chi = 2/5, of the relative tangential
+// velocity reversed, the rest thermal noise): the collision behind seed
+// 003's Enskog frictions (doc/srd.md).
+enum class BoundaryRule { stochastic, bounce_back, slip, rough };
 
 struct Params {
   double cell_size = 1.;

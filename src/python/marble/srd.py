@@ -192,7 +192,7 @@ def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule
 # --- reverse Poiseuille viscosity of the SRD fluid ------------------------
 
 def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_blocks=10,
-                       flow_dir=0, grad_dir=2, margin=0.0, sample_every=10):
+                       flow_dir=0, grad_dir=2, margin=1.0, sample_every=10):
     """Viscosity of the SRD fluid from a reverse Poiseuille flow (see
     marble.viscosity.reverse_poiseuille: the same fit, the force is applied by
     the SRD streaming step). Returns a marble.viscosity.PoiseuilleResult."""
@@ -206,7 +206,7 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
     n = N / np.prod(system.box_l)
     rho = n * system.srd.get_params()["mass"]
     if equilibration is None:
-        equilibration = 3.0 * rho * L ** 2 / (4.0 * np.pi ** 2 * 2.0)
+        equilibration = 8.0 * rho * L ** 2 / (4.0 * np.pi ** 2 * 2.0)  # 8 decay times at eta >= 2
     edges = np.linspace(0.0, L, n_bins + 1)
     z = 0.5 * (edges[1:] + edges[:-1])
     used, A, Ap = _fit_matrix(z, L, margin)
@@ -223,23 +223,23 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
                 a, b = core.srd_profile(flow_dir, grad_dir, n_bins)
                 prof = np.asarray(a) / np.maximum(np.asarray(b), 1)
                 coef = Ap @ prof[used]
-                series.append(n * g / (2.0 * coef[4]))
+                series.append(-n * g / (2.0 * coef[4]))
                 vs += np.asarray(a)
                 cs += np.asarray(b)
             prof = vs / np.maximum(cs, 1)
             profs.append(prof)
             coef = Ap @ prof[used]
-            etas.append(n * g / (2.0 * coef[4]))
+            etas.append(-n * g / (2.0 * coef[4]))
     finally:
         core.srd_set_drive(flow_dir, grad_dir, 0.0)
     profs = np.array(profs)
     mean_prof = profs.mean(axis=0)
     coef = Ap @ mean_prof[used]
-    eta = n * g / (2.0 * coef[4])
+    eta = -n * g / (2.0 * coef[4])
     # error of 1/curvature from the scatter of the block curvatures
     curv = np.array([(Ap @ p[used])[4] for p in profs])
     c_mean, c_err = block_average(curv, min_blocks=min(8, len(curv)))
-    eta_err = eta * c_err / abs(c_mean)
+    eta_err = abs(eta) * c_err / abs(c_mean)
     fit = np.full(n_bins, np.nan)
     fit[used] = A @ coef
     return PoiseuilleResult(eta=eta, eta_err=eta_err, eta_blocks=np.array(etas), z=z,
@@ -297,3 +297,40 @@ def enskog_friction(radius, M, density, kT=1.0, m=1.0, chi=0.4):
     in 1/time; a = 2, M = 125, gamma = 5: (1.370, 0.761)."""
     base = 8.0 / 3.0 * np.sqrt(2.0 * np.pi * kT * m * M / (m + M)) / M * density * radius ** 2
     return base * (1.0 + 2.0 * chi) / (1.0 + chi), base / (1.0 + chi)
+
+
+def kinetic_friction(radius, M, density, rule="stochastic", kT=1.0, m=1.0, chi=0.4):
+    """Short-time (kinetic, uncorrelated-collision) friction rates (zeta_V,
+    zeta_Omega) of a sphere for each boundary rule (doc/srd.md). With the
+    specular (Epstein) rate z0 = (8/3) sqrt(2 pi kT m M/(m+M)) gamma a^2 / M:
+    slip: (z0, 0); rough (tangential reversal fraction K = chi/(1+chi), seed
+    003's Enskog eqs. 5, 6): (z0 (1+K), z0 K/chi); bounce_back (K = 1):
+    (2 z0, z0/chi); stochastic (diffuse re-emission at kT, Epstein):
+    (z0 (1 + pi/8), z0/(2 chi))."""
+    z0 = 8.0 / 3.0 * np.sqrt(2.0 * np.pi * kT * m * M / (m + M)) / M * density * radius ** 2
+    if rule == "slip":
+        return z0, 0.0
+    if rule == "rough":
+        K = chi / (1.0 + chi)
+        return z0 * (1.0 + K), z0 * K / chi
+    if rule == "bounce_back":
+        return 2.0 * z0, z0 / chi
+    if rule == "stochastic":
+        return z0 * (1.0 + np.pi / 8.0), z0 / (2.0 * chi)
+    raise ValueError(f"parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough', got {rule!r}")
+
+
+def short_time_friction(X, dt, n_lags=8, n_blocks=8):
+    """Initial decay rate of the autocorrelation of the (n, 3) series X
+    sampled every dt: least-squares slope of -ln C(t)/C(0) over the first
+    n_lags lags, per block of the series; returns (mean, standard error)."""
+    X = np.asarray(X, dtype=float)
+    nb = len(X) // n_blocks
+    rates = []
+    lag = np.arange(n_lags + 1) * dt
+    for b in range(n_blocks):
+        x = X[b * nb:(b + 1) * nb]
+        c = np.array([np.mean(np.sum(x[:len(x) - k] * x[k:], axis=1)) for k in range(n_lags + 1)])
+        rates.append(-np.polyfit(lag, np.log(c / c[0]), 1)[0])
+    rates = np.array(rates)
+    return float(rates.mean()), float(rates.std(ddof=1) / np.sqrt(n_blocks))
