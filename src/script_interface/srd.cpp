@@ -205,6 +205,7 @@ void bind_srd(py::class_<System> &cls) {
     f.check_geometry(s.box(), -1.);
     f.collide(s.box());
   });
+  cls.def("srd_move_out", [](System &s) { return fluid(s).move_out(s); });
   cls.def("srd_n_collisions", [](System &s) { return fluid(s).n_collisions(); });
   cls.def("srd_momentum_to_colloids", [](System &s) { return vec_to_array(fluid(s).momentum_to_colloids); });
   cls.def("srd_set_drive", [](System &s, int flow, int grad, double g) {

@@ -102,6 +102,9 @@ public:
   /** Before a run: geometry checks, colloids able to take torque, and SRD
    * particles found inside a colloid are moved out (returns how many). */
   int prepare(System &s);
+  /** Move SRD particles found inside a colloid to random free places
+   * (keyed by seed, step, id); returns how many were moved. */
+  int move_out(System &s);
   /** One MD step: stream by time_step (bouncing off colloids, handing the
    * impulses to them) and collide when due. Called after the MD drift. */
   void md_step(System &s);

@@ -179,14 +179,17 @@ def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule
     """Add one SRD colloid (a rotating MD particle, I = (2/5) M a^2) and its
     boundary for each SRD type. Default mass: seed 003's M = (2.5 a)^3 / 8 x ...
     i.e. neutrally buoyant, M = density (4/3) pi a^3 (pass mass=125 for the
-    seed's a = 2 colloid). SRD particles inside are moved out before the next run."""
+    seed's a = 2 colloid). SRD particles inside are moved to random free places (also before every run)."""
     assert_features("SRD", "ROTATION", "MASS")
     if mass is None:
         mass = density * 4.0 / 3.0 * np.pi * radius ** 3
     for s in srd_types:
         boundary(system, type, s).set_params(radius=radius, rule=rule)
-    return system.part.add(pos=pos, v=v, type=type, mass=mass, rotation=[True] * 3,
-                           rinertia=[0.4 * mass * radius ** 2] * 3)
+    p = system.part.add(pos=pos, v=v, type=type, mass=mass, rotation=[True] * 3,
+                        rinertia=[0.4 * mass * radius ** 2] * 3)
+    if getattr(system, "_srd", None) is not None:
+        system._core.srd_move_out()
+    return p
 
 
 # --- reverse Poiseuille viscosity of the SRD fluid ------------------------
