@@ -213,7 +213,14 @@ void bind_srd(py::class_<System> &cls) {
     if (flow < 0 || flow > 2 || grad < 0 || grad > 2 || flow == grad)
       value_error("parameters 'flow_dir' and 'grad_dir' must be different axes in {0, 1, 2}");
     check_double("g", g);
-    f.drive = {g != 0., flow, grad, g};
+    f.drive.on = g != 0., f.drive.flow_dir = flow, f.drive.grad_dir = grad, f.drive.g = g;
+  });
+  cls.def("srd_set_acceleration", [](System &s, py::handle a) {
+    auto &f = fluid(s);
+    auto const x = to_vec3("acceleration", a);
+    for (int d = 0; d < 3; ++d)
+      check_double("acceleration", x[d]);
+    f.drive.accel = x;
   });
   cls.def("srd_profile", [](System &s, int flow, int grad, int n_bins) {
     auto &f = fluid(s);

@@ -197,6 +197,9 @@ void Fluid::stream(System &s, double dt) {
     for (int i = 0; i < n; ++i)
       v[i][drive.flow_dir] += (pos[i][drive.grad_dir] < h ? drive.g : -drive.g) * dt;
   }
+  if (drive.accel.norm2() > 0.)
+    for (int i = 0; i < n; ++i)
+      v[i] += dt * drive.accel;
   auto cols = colloids_of(s, *this);
   if (cols.empty()) {
     for (int i = 0; i < n; ++i) {

@@ -64,6 +64,7 @@ struct Drive {
   bool on = false;
   int flow_dir = 0, grad_dir = 2;
   double g = 0.;
+  Utils::Vector3d accel{}; // uniform acceleration of every SRD particle (drag method)
 };
 
 class Fluid {

@@ -112,6 +112,18 @@ class SRDFluid:
     def n_collisions(self):
         return self._system._core.srd_n_collisions()
 
+    @property
+    def acceleration(self):
+        """Uniform acceleration of every SRD particle (e.g. -F/(N m) for the drag method)."""
+        return self._accel
+
+    @acceleration.setter
+    def acceleration(self, a):
+        self._system._core.srd_set_acceleration(np.asarray(a, dtype=float))
+        self._accel = np.asarray(a, dtype=float)
+
+    _accel = np.zeros(3)
+
     def collide(self):
         """One collision now (for tests; run() collides every tau by itself)."""
         self._system._core.srd_collide()
