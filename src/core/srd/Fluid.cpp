@@ -19,9 +19,11 @@ Vector3d cross(Vector3d const &a, Vector3d const &b) {
 }
 void fold(Vector3d &x, Vector3d const &L) {
   for (int d = 0; d < 3; ++d) {
-    x[d] -= L[d] * std::floor(x[d] / L[d]);
-    if (x[d] >= L[d]) // rounding of a tiny negative x
-      x[d] = 0.;
+    if (x[d] < 0. || x[d] >= L[d]) [[unlikely]] {
+      x[d] -= L[d] * std::floor(x[d] / L[d]);
+      if (x[d] >= L[d]) // rounding of a tiny negative x
+        x[d] = 0.;
+    }
   }
 }
 
@@ -212,10 +214,26 @@ void Fluid::stream(System &s, double dt) {
   std::vector<Vector3d> dP(cols.size()), dL(cols.size());
   std::uint64_t const step = s.step();
   double const sig = std::sqrt(m_p.kT / m_p.mass);
+  double r_max = 0.;
+  std::vector<double> Rx(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    for (int t = 0; t < max_type; ++t)
+      r_max = std::max(r_max, boundary(ps.type[cols[j].index], t).radius);
+    Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
+  }
+  if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
+    r_max = INFINITY;
   for (int i = 0; i < n; ++i) {
     pos[i] += dt * v[i];
     for (std::size_t j = 0; j < cols.size(); ++j) {
       auto const &c = cols[j];
+      // quick rejection along x: pos (streamed once) and the folded centre
+      // differ by less than L + v dt, so one wrap gives the minimum image
+      // whenever it is shorter than r_max < L/2
+      double dx = pos[i][0] - Rx[j];
+      dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
+      if (std::abs(dx) >= r_max)
+        continue;
       auto const b = boundary(ps.type[c.index], type[i]);
       if (!b.active)
         continue;

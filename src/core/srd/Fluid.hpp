@@ -127,7 +127,8 @@ private:
   std::uint64_t m_n_streams = 0;
   std::vector<BoundaryParams> m_bnd; // max_type x max_type, lazily sized
   // collision scratch
-  std::vector<int> m_cell, m_count, m_start, m_order;
+  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2;
+  std::vector<Utils::Vector3d> m_p2, m_v2;
 };
 
 } // namespace Srd

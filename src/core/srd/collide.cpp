@@ -56,12 +56,13 @@ void Fluid::collide(BoxGeometry const &box) {
   // counting sort of the particles into the shifted cells
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
+  double const inv_a0 = 1. / a0;
   for (int i = 0; i < n; ++i) {
     int g = 0;
     for (int d = 0; d < 3; ++d) {
-      double const y = pos[i][d] - shift[d];
-      int k = static_cast<int>(std::floor(y / a0));
-      k = ((k % m_grid[d]) + m_grid[d]) % m_grid[d];
+      // pos in [0, L), shift in (-a0/2, a0/2]: k in [-1, n_d]
+      int k = static_cast<int>(std::floor((pos[i][d] - shift[d]) * inv_a0));
+      k = k < 0 ? k + m_grid[d] : (k >= m_grid[d] ? k - m_grid[d] : k);
       g = g * m_grid[d] + k;
     }
     m_cell[i] = g;
@@ -74,15 +75,12 @@ void Fluid::collide(BoxGeometry const &box) {
   for (int i = 0; i < n; ++i)
     m_order[m_start[m_cell[i]]++] = i;
   // permute the arrays into cell order (contiguous cells; streaming stays sequential)
-  {
-    std::vector<Vector3d> p2(n), v2(n);
-    std::vector<int> id2(n), t2(n);
-    for (int k = 0; k < n; ++k) {
-      int const i = m_order[k];
-      p2[k] = pos[i], v2[k] = v[i], id2[k] = id[i], t2[k] = type[i];
-    }
-    pos.swap(p2), v.swap(v2), id.swap(id2), type.swap(t2);
+  m_p2.resize(n), m_v2.resize(n), m_id2.resize(n), m_t2.resize(n);
+  for (int k = 0; k < n; ++k) {
+    int const i = m_order[k];
+    m_p2[k] = pos[i], m_v2[k] = v[i], m_id2[k] = id[i], m_t2[k] = type[i];
   }
+  pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
   double const ca = std::cos(m_p.angle), sa = std::sin(m_p.angle);
   double const sig = std::sqrt(m_p.kT / m_p.mass);
   std::vector<Vector3d> xi;
