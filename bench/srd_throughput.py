@@ -109,14 +109,13 @@ for N in args.sizes:
     steps = max(5, int(args.work / N))
     m, lm, mc = [], [], []
     for r in range(args.rounds):
-        m.append(marble_rate(N, steps)[0])
+        rate, t_pure = marble_rate(N, steps)
+        m.append(rate)
         if have_lmp:
             lm.append(lammps_rate(N, steps)[0])
-        if r == 0:  # one colloid: extra cost per MD step
-            t_col = marble_rate(N, steps, colloid=True)[1]
-            t_pure = marble_rate(N, steps)[1]
-            mc.append(t_col - t_pure)
-    row = dict(N=N, steps=steps, marble=float(np.median(m)), marble_all=m,
+        # one colloid: extra cost per MD step (pure run of this round as reference)
+        mc.append(marble_rate(N, steps, colloid=True)[1] - t_pure)
+    row = dict(N=int(5 * round((N / 5) ** (1 / 3)) ** 3), steps=steps, marble=float(np.median(m)), marble_all=m,
                lammps=float(np.median(lm)) if lm else None, lammps_all=lm,
                colloid_extra_s_per_step=float(np.median(mc)))
     res["sizes"].append(row)
