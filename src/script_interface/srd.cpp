@@ -205,6 +205,48 @@ void bind_srd(py::class_<System> &cls) {
     f.check_geometry(s.box(), -1.);
     f.collide(s.box());
   });
+  // checkpoint: the whole SRD state, particles in their stored order (the
+  // order of the sums in a cell), counters, boundaries and drive
+  cls.def("srd_get_state", [](System &s) {
+    auto &f = fluid(s);
+    py::dict d;
+    d["pos"] = to_array(f.pos), d["v"] = to_array(f.v), d["id"] = f.id, d["type"] = f.type;
+    d["n_collisions"] = f.n_collisions(), d["n_streams"] = f.n_streams();
+    py::list b;
+    for (int c = 0; c < Fluid::max_type; ++c)
+      for (int t = 0; t < Fluid::max_type; ++t)
+        if (f.boundary(c, t).active)
+          b.append(py::make_tuple(c, t, f.boundary(c, t).radius, static_cast<int>(f.boundary(c, t).rule)));
+    d["boundaries"] = b;
+    d["drive"] = py::make_tuple(f.drive.on, f.drive.flow_dir, f.drive.grad_dir, f.drive.g,
+                                vec_to_array(f.drive.accel));
+    d["momentum_to_colloids"] = vec_to_array(f.momentum_to_colloids);
+    return d;
+  });
+  cls.def("srd_set_state", [](System &s, py::dict d) {
+    auto &f = fluid(s);
+    auto const ids = d["id"].cast<std::vector<int>>();
+    auto const types = d["type"].cast<std::vector<int>>();
+    std::vector<Utils::Vector3d> x(ids.size()), u(ids.size());
+    from_array("pos", d["pos"].cast<py::array_t<double>>(), x);
+    from_array("v", d["v"].cast<py::array_t<double>>(), u);
+    if (types.size() != ids.size())
+      throw Utils::RuntimeError("SRD checkpoint state is inconsistent");
+    f.pos = x, f.v = u, f.id = ids, f.type = types;
+    f.set_counters(d["n_collisions"].cast<std::uint64_t>(), d["n_streams"].cast<std::uint64_t>());
+    for (auto h : d["boundaries"].cast<py::list>()) {
+      auto t = h.cast<py::tuple>();
+      Marble::Srd::BoundaryParams b;
+      b.active = true, b.radius = t[2].cast<double>();
+      b.rule = static_cast<Marble::Srd::BoundaryRule>(t[3].cast<int>());
+      f.set_boundary(t[0].cast<int>(), t[1].cast<int>(), b);
+    }
+    auto dr = d["drive"].cast<py::tuple>();
+    f.drive.on = dr[0].cast<bool>(), f.drive.flow_dir = dr[1].cast<int>();
+    f.drive.grad_dir = dr[2].cast<int>(), f.drive.g = dr[3].cast<double>();
+    f.drive.accel = to_vec3("accel", dr[4]);
+    f.momentum_to_colloids = to_vec3("momentum_to_colloids", d["momentum_to_colloids"]);
+  });
   cls.def("srd_move_out", [](System &s) { return fluid(s).move_out(s); });
   cls.def("srd_n_collisions", [](System &s) { return fluid(s).n_collisions(); });
   cls.def("srd_momentum_to_colloids", [](System &s) { return vec_to_array(fluid(s).momentum_to_colloids); });

@@ -80,6 +80,11 @@ public:
   /** Number of MD steps per collision (set by check_time_step). */
   int steps_per_collision() const { return m_n_tau; }
   std::uint64_t n_collisions() const { return m_n_collisions; }
+  std::uint64_t n_streams() const { return m_n_streams; }
+  /** Checkpoint restore: the collision and streaming counters. */
+  void set_counters(std::uint64_t collisions, std::uint64_t streams) {
+    m_n_collisions = collisions, m_n_streams = streams;
+  }
   int size() const { return static_cast<int>(pos.size()); }
 
   /** Throws std::invalid_argument unless tau is a multiple of @p dt and

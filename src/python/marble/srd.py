@@ -13,8 +13,9 @@ The SRD particles are kept by the SRD fluid itself (not in ``system.part``):
 they have no pair interactions and stream ballistically once per MD step; the
 collision happens every ``tau`` (a multiple of ``time_step``). Positions and
 velocities: ``system.srd.pos``, ``system.srd.v`` (numpy copies; ``v`` can be
-set). Not supported yet: more than one MPI rank, checkpoints, H5MD output of
-the SRD particles (each refused or documented in doc/srd.md).
+set). Checkpoints (pickling the System) carry the fluid and continue bit for
+bit. Not supported yet: more than one MPI rank (refused), H5MD output of the
+SRD particles (doc/srd.md).
 
 Theory (reference.md section 6; Kikuchi et al. 2003, Ihle et al. 2004,
 Padding et al. 2005 = seed 003): :func:`eta_kin`, :func:`eta_col`,
@@ -123,6 +124,11 @@ class SRDFluid:
         self._accel = np.asarray(a, dtype=float)
 
     _accel = np.zeros(3)
+
+    def _restore(self, state):
+        """Checkpoint restore (System.__setstate__)."""
+        self._system._core.srd_set_state(state)
+        self._accel = np.asarray(state["drive"][4], dtype=float)
 
     def collide(self):
         """One collision now (for tests; run() collides every tau by itself)."""
