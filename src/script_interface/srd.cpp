@@ -94,7 +94,8 @@ void bind_srd(py::class_<System> &cls) {
   cls.def("srd_create", [](System &s, py::dict kw) {
     refuse_mpi(s);
     check_keys("SRDFluid", kw, {"types", "cell_size", "tau", "angle", "kT", "mass", "seed", "shift",
-                                "rule", "thermostat", "conserve_angular"});
+                                "rule", "thermostat", "conserve_angular", "wall_axis", "wall_rule",
+                                "wall_velocity_lo", "wall_velocity_hi"});
     for (auto key : {"tau", "seed"})
       if (!kw.contains(key))
         value_error(std::string("parameter '") + key + "' is required for SRDFluid");
@@ -138,6 +139,39 @@ void bind_srd(py::class_<System> &cls) {
       if (p.conserve_angular && p.rule != Marble::Srd::CollisionRule::at)
         value_error("parameter 'conserve_angular' needs rule='at' (AT+a)");
     }
+    if (kw.contains("wall_axis") && !kw["wall_axis"].is_none()) {
+      long long const a = to_int("wall_axis", kw["wall_axis"]);
+      if (a < 0 || a > 2)
+        value_error("parameter 'wall_axis' must be 0, 1, 2 or None, got " + std::to_string(a));
+      p.wall_axis = static_cast<int>(a);
+      std::string rule = "stochastic";
+      if (kw.contains("wall_rule")) {
+        if (!py::isinstance<py::str>(kw["wall_rule"]))
+          value_error("parameter 'wall_rule' must be one of 'stochastic', 'bounce_back', 'slip'");
+        rule = kw["wall_rule"].cast<std::string>();
+      }
+      if (rule == "stochastic")
+        p.wall_rule = static_cast<int>(Marble::Srd::BoundaryRule::stochastic);
+      else if (rule == "bounce_back")
+        p.wall_rule = static_cast<int>(Marble::Srd::BoundaryRule::bounce_back);
+      else if (rule == "slip")
+        p.wall_rule = static_cast<int>(Marble::Srd::BoundaryRule::slip);
+      else
+        value_error("parameter 'wall_rule' must be one of 'stochastic', 'bounce_back', 'slip', got '" + rule + "'");
+      for (auto key : {"wall_velocity_lo", "wall_velocity_hi"}) {
+        if (!kw.contains(key))
+          continue;
+        auto const u = to_vec3(key, kw[key]);
+        for (int d = 0; d < 3; ++d)
+          check_double(key, u[d]);
+        if (u[p.wall_axis] != 0.)
+          value_error(std::string("parameter '") + key + "' must be tangential to the wall (component " +
+                      std::to_string(p.wall_axis) + " = 0)");
+        (std::string(key) == "wall_velocity_lo" ? p.wall_v_lo : p.wall_v_hi) = u;
+      }
+    } else if (kw.contains("wall_rule") || kw.contains("wall_velocity_lo") || kw.contains("wall_velocity_hi")) {
+      value_error("parameters 'wall_rule', 'wall_velocity_lo/hi' need 'wall_axis'");
+    }
     auto f = std::make_shared<Fluid>(p);
     f->check_geometry(s.box(), s.time_step()); // ValueError: cell/box, tau/dt
     if (kw.contains("types"))
@@ -167,6 +201,11 @@ void bind_srd(py::class_<System> &cls) {
     d["rule"] = p.rule == Marble::Srd::CollisionRule::srd ? "srd" : "at";
     d["thermostat"] = p.thermostat ? "mbs" : "none";
     d["conserve_angular"] = p.conserve_angular;
+    if (p.wall_axis >= 0) {
+      static char const *names[] = {"stochastic", "bounce_back", "slip", "rough"};
+      d["wall_axis"] = p.wall_axis, d["wall_rule"] = names[p.wall_rule];
+      d["wall_velocity_lo"] = vec_to_array(p.wall_v_lo), d["wall_velocity_hi"] = vec_to_array(p.wall_v_hi);
+    }
     return d;
   });
   cls.def("srd_add_particles", [](System &s, py::handle n_, py::handle t_, py::handle kT_, py::handle seed_) {
@@ -221,6 +260,7 @@ void bind_srd(py::class_<System> &cls) {
     d["drive"] = py::make_tuple(f.drive.on, f.drive.flow_dir, f.drive.grad_dir, f.drive.g,
                                 vec_to_array(f.drive.accel));
     d["momentum_to_colloids"] = vec_to_array(f.momentum_to_colloids);
+    d["momentum_to_walls"] = py::make_tuple(vec_to_array(f.momentum_to_wall_lo), vec_to_array(f.momentum_to_wall_hi));
     return d;
   });
   cls.def("srd_set_state", [](System &s, py::dict d) {
@@ -246,6 +286,9 @@ void bind_srd(py::class_<System> &cls) {
     f.drive.grad_dir = dr[2].cast<int>(), f.drive.g = dr[3].cast<double>();
     f.drive.accel = to_vec3("accel", dr[4]);
     f.momentum_to_colloids = to_vec3("momentum_to_colloids", d["momentum_to_colloids"]);
+    auto mw = d["momentum_to_walls"].cast<py::tuple>();
+    f.momentum_to_wall_lo = to_vec3("momentum_to_walls", mw[0]);
+    f.momentum_to_wall_hi = to_vec3("momentum_to_walls", mw[1]);
   });
   cls.def("srd_move_out", [](System &s) { return fluid(s).move_out(s); });
   cls.def("srd_n_collisions", [](System &s) { return fluid(s).n_collisions(); });
@@ -256,6 +299,10 @@ void bind_srd(py::class_<System> &cls) {
       value_error("parameters 'flow_dir' and 'grad_dir' must be different axes in {0, 1, 2}");
     check_double("g", g);
     f.drive.on = g != 0., f.drive.flow_dir = flow, f.drive.grad_dir = grad, f.drive.g = g;
+  });
+  cls.def("srd_wall_momentum", [](System &s) {
+    auto &f = fluid(s);
+    return py::make_tuple(vec_to_array(f.momentum_to_wall_lo), vec_to_array(f.momentum_to_wall_hi));
   });
   cls.def("srd_set_acceleration", [](System &s, py::handle a) {
     auto &f = fluid(s);

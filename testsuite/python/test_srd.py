@@ -223,3 +223,20 @@ def test_checkpoint_bit_exact_continuation():
     rc = r.part.by_id(c.id)
     assert np.array_equal(rc.v, c.v) and np.array_equal(rc.omega_lab, c.omega_lab)
     assert np.array_equal(rc.pos, c.pos)
+
+
+@pytest.mark.parametrize("rule", ["stochastic", "bounce_back", "slip"])
+def test_walls_confine_and_conserve_momentum(rule):
+    s = make(L=6.0, wall_axis=1, wall_rule=rule, wall_velocity_lo=[0.3, 0, 0.1],
+             wall_velocity_hi=[-0.2, 0, 0])
+    P0 = s.srd.v.sum(axis=0)
+    s.integrator.run(50)
+    y = s.srd.pos[:, 1]
+    assert y.min() >= 0 and y.max() < 6.0
+    lo, hi = s.srd.momentum_to_walls()
+    assert np.linalg.norm(lo) > 0 and np.linalg.norm(hi) > 0
+    assert np.allclose(s.srd.v.sum(axis=0) + lo + hi, P0, rtol=0, atol=1e-9)
+    with pytest.raises(ValueError, match="tangential"):
+        make(L=6.0, wall_axis=1, wall_velocity_lo=[0, 1, 0])
+    with pytest.raises(ValueError, match="wall_axis"):
+        make(L=6.0, wall_rule="slip")

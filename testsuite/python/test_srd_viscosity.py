@@ -44,3 +44,38 @@ def test_no_shift_deviates_and_drift_does_not_matter():
     assert abs(r.eta - theory) > 0.10 * theory + 3 * r.eta_err
     d = measure(90.0, drift=1.0, seed=14)
     assert abs(d.eta - theory) < 0.03 * theory + 3 * d.eta_err
+
+
+@pytest.mark.parametrize("rule", ["stochastic", "bounce_back"])
+def test_couette_between_stick_walls(rule):
+    """Channel walls at z = 0 (at rest) and z = L (moving at U along x): a
+    linear bulk profile; eta = wall stress / bulk shear rate, where the wall
+    stress is the momentum handed to the walls per time and area."""
+    Lz, U, T, n_blocks = 12.0, 0.5, 1500.0, 10
+    s = marble.System(box_l=[6.0, 6.0, Lz], time_step=0.1)
+    s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=4, thermostat="mbs",
+                         wall_axis=2, wall_rule=rule, wall_velocity_hi=[U, 0, 0])
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=5)
+    s.integrator.run(1500)
+    nb = 24
+    z = (np.arange(nb) + 0.5) * Lz / nb
+    bulk = (z > 2) & (z < Lz - 2)
+    etas = []
+    for _ in range(n_blocks):
+        pa = s.srd.momentum_to_walls()
+        va, ca = np.zeros(nb), np.zeros(nb)
+        for _ in range(int(T / n_blocks / 0.5)):
+            s.integrator.run(5)
+            a, c = s._core.srd_profile(0, 2, nb)
+            va += a
+            ca += c
+        pb = s.srd.momentum_to_walls()
+        stress = ((pb[0] - pa[0])[0] - (pb[1] - pa[1])[0]) / 2 / (T / n_blocks) / 36.0
+        rate = np.polyfit(z[bulk], (va / ca)[bulk], 1)[0]
+        etas.append(stress / rate)
+    zz = s.srd.pos[:, 2]
+    assert zz.min() >= 0.0 and zz.max() < Lz
+    eta, err = np.mean(etas), np.std(etas, ddof=1) / np.sqrt(n_blocks)
+    theory = srd.eta(5, 90.0, 0.1)
+    print(f"Couette {rule}: eta = {eta:.4f} +/- {err:.4f} (theory {theory:.4f})")
+    assert abs(eta - theory) < 0.03 * theory + 3 * err

@@ -5,6 +5,7 @@
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -202,10 +203,13 @@ void Fluid::stream(System &s, double dt) {
   if (drive.accel.norm2() > 0.)
     for (int i = 0; i < n; ++i)
       v[i] += dt * drive.accel;
+  if (m_p.wall_axis >= 0)
+    walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
   auto cols = colloids_of(s, *this);
+  double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
   if (cols.empty()) {
     for (int i = 0; i < n; ++i) {
-      pos[i] += dt * v[i];
+      pos[i] += dt_free * v[i];
       fold(pos[i], L);
     }
     return;
@@ -224,7 +228,7 @@ void Fluid::stream(System &s, double dt) {
   if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
     r_max = INFINITY;
   for (int i = 0; i < n; ++i) {
-    pos[i] += dt * v[i];
+    pos[i] += dt_free * v[i];
     for (std::size_t j = 0; j < cols.size(); ++j) {
       auto const &c = cols[j];
       // quick rejection along x: pos (streamed once) and the folded centre
@@ -294,6 +298,52 @@ void Fluid::stream(System &s, double dt) {
     if (cols[j].I > 0.)
       ps.omega[k] += dL[j] / cols[j].I;
 #endif
+  }
+}
+
+// Channel walls at x[a] = 0 and L: exact crossing time (planes are cheap),
+// the boundary rule in the frame of the wall, the rest of the step streamed.
+void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
+  int const a = m_p.wall_axis;
+  double const La = L[a];
+  double const sig = std::sqrt(m_p.kT / m_p.mass);
+  auto const rule = static_cast<BoundaryRule>(m_p.wall_rule);
+  for (int i = 0; i < size(); ++i) {
+    double t_left = dt;
+    for (int bounce = 0; bounce < 4; ++bounce) {
+      double const z = pos[i][a] + t_left * v[i][a];
+      if (z >= 0. && z < La)
+        break;
+      bool const lo = z < 0.;
+      double const tc = std::clamp(((lo ? 0. : La) - pos[i][a]) / v[i][a], 0., t_left);
+      pos[i] += tc * v[i];
+      pos[i][a] = lo ? 0. : std::nextafter(La, 0.);
+      t_left -= tc;
+      Vector3d nrm{};
+      nrm[a] = lo ? 1. : -1.; // into the fluid
+      Vector3d const vw = lo ? m_p.wall_v_lo : m_p.wall_v_hi;
+      Vector3d vn;
+      Vector3d const vr = v[i] - vw;
+      double const vrn = vr * nrm;
+      if (rule == BoundaryRule::stochastic) {
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 2 + bounce);
+        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
+                                          static_cast<std::uint64_t>(id[i]), 8 + bounce);
+        vn = vw + (sig * std::sqrt(-2. * std::log(unit_open0(u[0])))) * nrm;
+        int const t1 = (a + 1) % 3, t2 = (a + 2) % 3;
+        vn[t1] += sig * g[0];
+        vn[t2] += sig * g[1];
+      } else if (rule == BoundaryRule::bounce_back || rule == BoundaryRule::rough) {
+        vn = 2. * vw - v[i];
+      } else { // slip
+        vn = v[i] - (2. * vrn) * nrm;
+      }
+      (lo ? momentum_to_wall_lo : momentum_to_wall_hi) += m_p.mass * (v[i] - vn);
+      v[i] = vn;
+    }
+    pos[i] += t_left * v[i];
+    if (pos[i][a] < 0. || pos[i][a] >= La) // pathological: still outside
+      pos[i][a] = std::clamp(pos[i][a], 0., std::nextafter(La, 0.));
   }
 }
 

@@ -49,6 +49,12 @@ struct Params {
   CollisionRule rule = CollisionRule::srd;
   bool thermostat = false;       // cell-level Maxwell-Boltzmann scaling
   bool conserve_angular = false; // AT+a: angular momentum conserving (rule at)
+  // Channel walls: planes at x[wall_axis] = 0 (velocity wall_v_lo) and = L
+  // (wall_v_hi) confine the SRD particles (-1: none). Collision cells are not
+  // wrapped across them.
+  int wall_axis = -1;
+  int wall_rule = 0; // a BoundaryRule value
+  Utils::Vector3d wall_v_lo{}, wall_v_hi{};
 };
 
 /** Boundary of colloid type c for SRD type s: a hard sphere of radius. */
@@ -121,9 +127,12 @@ public:
 
   /** Sum of momentum exchanged with colloids (diagnostics). */
   Utils::Vector3d momentum_to_colloids{};
+  /** Momentum handed to the lower / upper channel wall (wall stress). */
+  Utils::Vector3d momentum_to_wall_lo{}, momentum_to_wall_hi{};
 
 private:
   void stream(System &s, double dt);
+  void walls(std::uint64_t step, double dt, Utils::Vector3d const &L);
   int relocate_overlapping(System &s, std::uint64_t key);
   Params m_p;
   int m_n_tau = 0;

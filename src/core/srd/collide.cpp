@@ -52,7 +52,12 @@ void Fluid::collide(BoxGeometry const &box) {
   if (m_p.shift) // uniform in (-a0/2, a0/2]^3, keyed by (seed, collision)
     shift = a0 * Utils::noise_uniform(m_p.seed, Utils::RNGSalt::srd_shift, c, 0, 0);
   int const n = size();
-  int const n_cells = m_grid[0] * m_grid[1] * m_grid[2];
+  // along a wall axis the cells are not wrapped (k + 1 in [0, n + 1]): no
+  // cell holds particles from both sides of a wall
+  Utils::Vector3i gdim = m_grid;
+  if (m_p.wall_axis >= 0)
+    gdim[m_p.wall_axis] += 2;
+  int const n_cells = gdim[0] * gdim[1] * gdim[2];
   // counting sort of the particles into the shifted cells
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
@@ -62,8 +67,11 @@ void Fluid::collide(BoxGeometry const &box) {
     for (int d = 0; d < 3; ++d) {
       // pos in [0, L), shift in (-a0/2, a0/2]: k in [-1, n_d]
       int k = static_cast<int>(std::floor((pos[i][d] - shift[d]) * inv_a0));
-      k = k < 0 ? k + m_grid[d] : (k >= m_grid[d] ? k - m_grid[d] : k);
-      g = g * m_grid[d] + k;
+      if (d == m_p.wall_axis)
+        k += 1;
+      else
+        k = k < 0 ? k + m_grid[d] : (k >= m_grid[d] ? k - m_grid[d] : k);
+      g = g * gdim[d] + k;
     }
     m_cell[i] = g;
     ++m_count[g + 1];

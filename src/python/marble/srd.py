@@ -27,7 +27,8 @@ from . import _marble
 from .code_features import assert_features
 
 _PARAMS = ("types", "cell_size", "tau", "angle", "kT", "mass", "seed", "shift", "rule",
-           "thermostat", "conserve_angular")
+           "thermostat", "conserve_angular", "wall_axis", "wall_rule", "wall_velocity_lo",
+           "wall_velocity_hi")
 
 
 class SRDFluid:
@@ -58,6 +59,12 @@ class SRDFluid:
         Cell-level Maxwell-Boltzmann scaling after each rotation.
     conserve_angular : bool (False)
         AT+a (angular-momentum conserving Andersen rule); needs rule="at".
+    wall_axis : 0, 1, 2 or None
+        Channel walls: planes at x[wall_axis] = 0 and = L confine the SRD
+        particles (collision cells are not wrapped across them).
+    wall_rule : "stochastic" | "bounce_back" | "slip"
+    wall_velocity_lo, wall_velocity_hi : 3-vectors tangential to the walls
+        Wall velocities (Couette flow).
     """
 
     def __init__(self, **kwargs):
@@ -133,6 +140,10 @@ class SRDFluid:
     def collide(self):
         """One collision now (for tests; run() collides every tau by itself)."""
         self._system._core.srd_collide()
+
+    def momentum_to_walls(self):
+        """Total momentum handed to the lower and upper wall so far."""
+        return self._system._core.srd_wall_momentum()
 
     def momentum_to_colloids(self):
         """Total momentum handed to the colloids by the boundary rules so far."""
