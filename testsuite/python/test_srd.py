@@ -185,6 +185,13 @@ def test_bad_input_changes_nothing():
         s.integrator.run(1)
     assert s.srd.n == n
     s.time_step = 0.05
+    # a pair interaction set on the SRD type after the fluid was created
+    if marble.has_features("LENNARD_JONES"):
+        s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1, sigma=1, cutoff=1.12, shift="auto")
+        with pytest.raises(RuntimeError, match="pair interaction"):
+            s.integrator.run(1)
+        s.non_bonded_inter[0, 0].lennard_jones.deactivate()
+    assert s.srd.n_collisions == 0
     s.integrator.run(4)
     assert s.srd.n_collisions == 2
 

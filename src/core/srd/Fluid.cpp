@@ -177,6 +177,19 @@ int Fluid::prepare(System &s) {
   } catch (std::invalid_argument const &e) {
     throw Utils::RuntimeError(std::string("SRD cannot run: ") + e.what());
   }
+  // a pair interaction set on an SRD type after the fluid was created would be ignored
+  {
+    std::vector<char> seen(max_type, 0);
+    for (int t : type)
+      seen[t] = 1;
+    auto const &ia = s.interactions();
+    for (int t = 0; t < std::min(max_type, ia.n_types()); ++t)
+      for (int u = 0; seen[t] && u < ia.n_types(); ++u)
+        if (ia.get(t, u).max_cut > 0.)
+          throw Utils::RuntimeError("SRD cannot run: SRD type " + std::to_string(t) +
+                                    " has a pair interaction with type " + std::to_string(u) +
+                                    "; SRD particles take part in no pair interaction");
+  }
   auto const cols = colloids_of(s, *this);
   for (auto const &c : cols) {
     for (int t = 0; t < max_type; ++t) {
