@@ -206,9 +206,9 @@ def boundary(system, c, s):
 def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule="stochastic",
                 v=(0.0, 0.0, 0.0), density=5.0):
     """Add one SRD colloid (a rotating MD particle, I = (2/5) M a^2) and its
-    boundary for each SRD type. Default mass: seed 003's M = (2.5 a)^3 / 8 x ...
-    i.e. neutrally buoyant, M = density (4/3) pi a^3 (pass mass=125 for the
-    seed's a = 2 colloid). SRD particles inside are moved to random free places (also before every run)."""
+    boundary for each SRD type. Default mass: neutrally buoyant,
+    M = density (4/3) pi a^3 (seed 003 uses M = (2.5 a)^3: pass mass=125 for
+    its a = 2 colloid). SRD particles inside are moved to random free places (also before every run)."""
     assert_features("SRD", "ROTATION", "MASS")
     if mass is None:
         mass = density * 4.0 / 3.0 * np.pi * radius ** 3
