@@ -11,3 +11,4 @@
 #define TRANS_DPD
 #define MARBLE
 #define TUNABLE_SLIP
+#define SRD

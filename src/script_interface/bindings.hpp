@@ -18,4 +18,5 @@ void bind_integrate(py::class_<Marble::System> &cls);     // integrate.cpp
 void bind_analysis(py::class_<Marble::System> &cls);      // analysis.cpp
 void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls); // accumulators.cpp
 void bind_io(py::module_ &m, py::class_<Marble::System> &cls);           // io.cpp
+void bind_srd(py::class_<Marble::System> &cls);           // srd.cpp
 } // namespace ScriptInterface

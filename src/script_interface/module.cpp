@@ -71,4 +71,5 @@ PYBIND11_MODULE(_marble, m) {
   ScriptInterface::bind_analysis(cls);
   ScriptInterface::bind_accumulators(m, cls);
   ScriptInterface::bind_io(m, cls);
+  ScriptInterface::bind_srd(cls);
 }

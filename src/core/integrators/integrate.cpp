@@ -5,6 +5,9 @@
 #include "integrators/dpd_integrators.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
+#ifdef SRD
+#include "srd/Fluid.hpp" // SRD
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +118,10 @@ int System::run(int n_steps, bool recalc_forces) {
     m_forces_valid = false;
   if (n_steps > 0)
     check_stability_before_run(*this);
+#ifdef SRD
+  if (srd && n_steps > 0) // SRD: geometry checks, SRD particles inside colloids moved out
+    srd->prepare(*this);
+#endif
   return run_md(n_steps);
 }
 
@@ -135,6 +142,10 @@ int System::run_md(int n_steps) {
     drift_checked();
     ++m_step;
     m_time += m_time_step;
+#ifdef SRD
+    if (srd) // SRD: stream (impulses to the colloids) and collide when due
+      srd->md_step(*this);
+#endif
 #ifdef DPD
     ++m_thermo.dpd.philox_counter;
 #endif

@@ -20,6 +20,7 @@
 namespace Marble {
 
 class System;
+namespace Srd { class Fluid; } // SRD
 
 /** Something updated automatically during integration (accumulators,
  * correlators): update() is called after every step whose number is a
@@ -169,6 +170,9 @@ public:
 
 #ifdef MARBLE
   Colloids const &colloids() const { return m_colloids; }
+#endif
+#ifdef SRD
+  std::shared_ptr<Srd::Fluid> srd; // SRD: the SRD solvent (srd/Fluid.hpp), null if none
 #endif
   Constraints &constraints() { return m_constraints; }
   /** Call after adding/removing walls: their types leave the main Verlet list. */

@@ -8,6 +8,7 @@ from .code_features import features, has_features, missing_features, all_feature
 from .system import System
 from . import shapes, colloids  # noqa: F401  (marble.shapes.Wall, marble.colloids.add_marble)
 from . import io, checkpointing  # noqa: F401  (marble.io.H5md, marble.checkpointing.Checkpoint)
+from . import srd  # noqa: F401,E402  (marble.srd.SRDFluid)  # SRD
 
 __version__ = "0.1.0"
 __all__ = ["System", "FeaturesError", "features", "has_features", "missing_features",

@@ -63,10 +63,12 @@ class System:
         the walls' shapes, the accumulators in ``auto_update_accumulators``
         (with their full state) and any attribute a script added. Collective
         in an MPI run: every rank's particles are gathered."""
-        extra = {k: v for k, v in self.__dict__.items() if k not in self._wrappers}
+        extra = {k: v for k, v in self.__dict__.items() if k not in self._wrappers + ("_srd",)}  # SRD
         state = {"constraints": [(c._id, c.shape) for c in self.constraints],
                  "accumulators": list(self.auto_update_accumulators),
                  "extra": extra}
+        if self._core.srd_active():  # SRD: the fluid's parameters and state
+            state["srd"] = (self._srd._kw, self._core.srd_get_state())
         return (_restore_system, (self._core.get_checkpoint_state(),), state)
 
     def __setstate__(self, state):
@@ -76,6 +78,20 @@ class System:
         for acc in state["accumulators"]:
             self.auto_update_accumulators._restore(acc)
         self.__dict__.update(state["extra"])
+        if "srd" in state:  # SRD
+            from .srd import SRDFluid
+            self.srd = SRDFluid(**state["srd"][0])
+            self._srd._restore(state["srd"][1])
+
+    # --- SRD solvent (marble.srd.SRDFluid; None if none) -------------------  # SRD
+    @property
+    def srd(self):
+        return self.__dict__.get("_srd")
+
+    @srd.setter
+    def srd(self, fluid):
+        from .srd import _attach
+        _attach(self, fluid)
 
     # --- parameters -------------------------------------------------------
     @property

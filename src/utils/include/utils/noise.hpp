@@ -17,6 +17,12 @@ enum class RNGSalt : std::uint64_t {
   marble = 2,
   tunable_slip_wall = 3,
   langevin = 4,
+  srd_shift = 5,    // SRD grid shift (seed, collision)
+  srd_axis = 6,     // SRD rotation axis (seed, collision, cell)
+  srd_thermo = 7,   // SRD cell thermostat (seed, collision, cell, block)
+  srd_at = 8,       // SRD Andersen velocities (seed, collision, particle id)
+  srd_wall = 9,     // SRD stochastic boundary (seed, MD step, particle id)
+  srd_init = 10,    // SRD initial positions/velocities and relocation
 };
 
 /** Four raw 64-bit words for counter @p step and keys. */

@@ -1,0 +1,128 @@
+"""SRD throughput: particle-collision-steps per CPU-second of a pure SRD fluid
+(density 5, a0 = 1, tau = dt = 0.1, alpha = 90 deg, grid shift on, kT = 1, no
+thermostat), Marble side by side with LAMMPS `fix srd` (Debian package
+`lammps`, installed with apt-get if `lmp` is missing), interleaved rounds,
+medians; plus the cost of one stick colloid (a = 2) per MD step in Marble.
+Writes bench/results/srd_throughput.json (doc/srd.md quotes it).
+
+    build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import marble
+import marble.srd as srd
+from bench_common import HERE, machine_info
+
+p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+p.add_argument("--sizes", type=float, nargs="+", default=[4e4, 3.2e5])
+p.add_argument("--rounds", type=int, default=3)
+p.add_argument("--work", type=float, default=1.5e7, help="particle-steps per timed run")
+p.add_argument("--no-lammps", action="store_true")
+args = p.parse_args()
+
+
+def ensure_lammps():
+    if shutil.which("lmp"):
+        return True
+    try:
+        subprocess.run(["apt-get", "install", "-y", "lammps"], check=True,
+                       env=dict(os.environ, DEBIAN_FRONTEND="noninteractive"),
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except (OSError, subprocess.CalledProcessError):
+        try:
+            subprocess.run(["apt-get", "update"], check=True, stdout=subprocess.DEVNULL)
+            subprocess.run(["apt-get", "install", "-y", "lammps"], check=True,
+                           env=dict(os.environ, DEBIAN_FRONTEND="noninteractive"),
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        except (OSError, subprocess.CalledProcessError):
+            return False
+    return shutil.which("lmp") is not None
+
+
+def marble_rate(N, steps, colloid=False):
+    L = round((N / 5) ** (1 / 3))
+    s = marble.System(box_l=[L] * 3, time_step=0.1)
+    s.cell_system.skin = 0.5
+    s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=1)
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=2)
+    if colloid:
+        srd.add_colloid(s, pos=[L / 2] * 3, radius=2.0, mass=125.0, type=1)
+    s.integrator.run(5)
+    t0 = time.process_time()
+    s.integrator.run(steps)
+    cpu = time.process_time() - t0
+    return s.srd.n * steps / cpu, cpu / steps
+
+
+LMP_IN = """units lj
+atom_style atomic
+atom_modify first empty
+region box block 0 {L} 0 {L} 0 {L}
+create_box 2 box
+create_atoms 1 random {N} 4711 NULL
+group empty type 2
+mass * 1.0
+velocity all create 1.0 593849 loop geom
+neighbor 0.3 bin
+neigh_modify delay 1 every 1 check no
+comm_modify group empty
+timestep 0.1
+fix 1 all srd 1 NULL 1.0 1.0 49894 shift yes 54979 rescale no
+run 5
+run {steps}
+"""
+
+
+def lammps_rate(N, steps):
+    L = round((N / 5) ** (1 / 3))
+    n = int(5 * L ** 3)
+    with tempfile.TemporaryDirectory() as d:
+        inp = os.path.join(d, "in.srd")
+        with open(inp, "w") as f:
+            f.write(LMP_IN.format(L=L, N=n, steps=steps))
+        out = subprocess.run(["lmp", "-in", inp, "-log", "none"],
+                             capture_output=True, text=True, cwd=d,
+                             env=dict(os.environ, OMP_NUM_THREADS="1"))
+    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps", out.stdout)
+    cpu_util = re.findall(r"([0-9.]+)% CPU use", out.stdout)
+    if not loops:
+        raise RuntimeError("LAMMPS failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
+    t = float(loops[-1][0]) * (float(cpu_util[-1]) / 100 if cpu_util else 1.0)
+    return n * steps / t, t / steps
+
+
+res = dict(machine=machine_info(), setup="pure SRD fluid, density 5, a0 = 1, tau = dt = 0.1, "
+           "alpha = 90 deg (LAMMPS default rotation), grid shift on, no thermostat, 1 core",
+           sizes=[], marble=[], lammps=[], colloid=[])
+have_lmp = not args.no_lammps and ensure_lammps()
+for N in args.sizes:
+    N = int(N)
+    steps = max(5, int(args.work / N))
+    m, lm, mc = [], [], []
+    for r in range(args.rounds):
+        rate, t_pure = marble_rate(N, steps)
+        m.append(rate)
+        if have_lmp:
+            lm.append(lammps_rate(N, steps)[0])
+        # one colloid: extra cost per MD step (pure run of this round as reference)
+        mc.append(marble_rate(N, steps, colloid=True)[1] - t_pure)
+    row = dict(N=int(5 * round((N / 5) ** (1 / 3)) ** 3), steps=steps, marble=float(np.median(m)), marble_all=m,
+               lammps=float(np.median(lm)) if lm else None, lammps_all=lm,
+               colloid_extra_s_per_step=float(np.median(mc)))
+    res["sizes"].append(row)
+    print(f"N = {N}: Marble {row['marble']:.3g} / CPU-s"
+          + (f", LAMMPS {row['lammps']:.3g} / CPU-s, ratio {row['marble'] / row['lammps']:.2f}"
+             if lm else "")
+          + f"; one a = 2 colloid: +{1e3 * row['colloid_extra_s_per_step']:.3f} ms/step", flush=True)
+os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+with open(os.path.join(HERE, "results", "srd_throughput.json"), "w") as f:
+    json.dump(res, f, indent=1)

@@ -1,0 +1,372 @@
+// SRD streaming and the colloid boundary rules (seed 003, section 3).
+#include "srd/Fluid.hpp"
+#include "srd/random.hpp"
+
+#include "system/System.hpp"
+#include "utils/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace Marble::Srd {
+
+using Utils::Vector3d;
+
+namespace {
+Vector3d cross(Vector3d const &a, Vector3d const &b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+void fold(Vector3d &x, Vector3d const &L) {
+  for (int d = 0; d < 3; ++d) {
+    if (x[d] < 0. || x[d] >= L[d]) [[unlikely]] {
+      x[d] -= L[d] * std::floor(x[d] / L[d]);
+      if (x[d] >= L[d]) // rounding of a tiny negative x
+        x[d] = 0.;
+    }
+  }
+}
+
+// The colloids an SRD fluid sees: local MD particles of a type with an
+// active boundary for some SRD type.
+struct ColloidRef {
+  int index;
+  Vector3d R, V, W;
+  double M, I;
+};
+} // namespace
+
+void Fluid::check_geometry(BoxGeometry const &box, double dt) {
+  auto const &L = box.length();
+  double const a0 = m_p.cell_size;
+  for (int d = 0; d < 3; ++d) {
+    if (!box.periodic(d))
+      throw std::invalid_argument("SRD needs a box periodic in all three directions");
+    double const n = L[d] / a0;
+    if (std::abs(n - std::round(n)) > 1e-9 * n || std::round(n) < 1.)
+      throw std::invalid_argument("parameter 'cell_size' (" + Utils::to_str(a0) +
+                                  ") must divide the box length " + Utils::to_str(L[d]) +
+                                  " along axis " + std::to_string(d));
+    m_grid[d] = static_cast<int>(std::round(n));
+  }
+  if (dt > 0.) {
+    double const k = m_p.tau / dt;
+    if (std::abs(k - std::round(k)) > 1e-9 * k || std::round(k) < 1.)
+      throw std::invalid_argument("parameter 'tau' (" + Utils::to_str(m_p.tau) +
+                                  ") must be a positive integer multiple of time_step (" +
+                                  Utils::to_str(dt) + ")");
+    m_n_tau = static_cast<int>(std::round(k));
+  }
+}
+
+bool Fluid::is_srd_type(int t) const {
+  for (int x : type)
+    if (x == t)
+      return true;
+  return false;
+}
+
+void Fluid::set_boundary(int c, int s, BoundaryParams const &b) {
+  if (m_bnd.empty())
+    m_bnd.resize(max_type * max_type);
+  m_bnd[c * max_type + s] = b;
+}
+
+BoundaryParams Fluid::boundary(int c, int s) const {
+  return m_bnd.empty() ? BoundaryParams{} : m_bnd[c * max_type + s];
+}
+
+bool Fluid::any_boundary() const {
+  for (auto const &b : m_bnd)
+    if (b.active)
+      return true;
+  return false;
+}
+
+namespace {
+std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
+  std::vector<ColloidRef> out;
+  if (!f.any_boundary())
+    return out;
+  auto const &ps = s.particles();
+  for (int i = 0; i < ps.n_local(); ++i) {
+    bool any = false;
+    for (int t = 0; t < Fluid::max_type && !any; ++t)
+      any = f.boundary(ps.type[i], t).active;
+    if (!any)
+      continue;
+    ColloidRef c{i, ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
+#ifdef ROTATION
+    c.W = ps.omega[i];
+    c.I = ps.rotation[i] ? ps.rinertia[i] : 0.;
+#endif
+    out.push_back(c);
+  }
+  return out;
+}
+} // namespace
+
+int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
+  auto const cols = colloids_of(s, *this);
+  if (cols.empty())
+    return 0;
+  auto const &box = s.box();
+  auto const &L = box.length();
+  auto const &ps = s.particles();
+  int moved = 0;
+  for (int i = 0; i < size(); ++i) {
+    for (int attempt = 0;; ++attempt) {
+      bool inside = false;
+      for (auto const &c : cols) {
+        auto const b = boundary(ps.type[c.index], type[i]);
+        if (b.active && box.get_mi_vector(pos[i], c.R).norm2() < b.radius * b.radius) {
+          inside = true;
+          break;
+        }
+      }
+      if (!inside)
+        break;
+      if (attempt == 0)
+        ++moved;
+      if (attempt > 10000)
+        throw Utils::RuntimeError("SRD: no free place found for particle " + std::to_string(id[i]) +
+                                  ": the colloids fill the box");
+      auto const u = Utils::noise_uniform(m_p.seed, Utils::RNGSalt::srd_init, key,
+                                          static_cast<std::uint64_t>(id[i]),
+                                          1000 + static_cast<std::uint64_t>(attempt));
+      for (int d = 0; d < 3; ++d)
+        pos[i][d] = (u[d] + 0.5) * L[d];
+      fold(pos[i], L);
+    }
+  }
+  return moved;
+}
+
+void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_t seed) {
+  auto const &L = s.box().length();
+  int next = 0;
+  for (int x : id)
+    next = std::max(next, x + 1);
+  int const first = size();
+  double const sig = std::sqrt(kT / m_p.mass);
+  Vector3d vm{};
+  for (int k = 0; k < n; ++k) {
+    int const pid = next + k;
+    auto const u = Utils::noise_uniform(seed, Utils::RNGSalt::srd_init, 0, static_cast<std::uint64_t>(pid), 0);
+    Vector3d x;
+    for (int d = 0; d < 3; ++d)
+      x[d] = (u[d] + 0.5) * L[d];
+    fold(x, L);
+    auto const g = gauss4(seed, Utils::RNGSalt::srd_init, 1, static_cast<std::uint64_t>(pid), 0);
+    Vector3d const vel = sig * Vector3d{g[0], g[1], g[2]};
+    vm += vel;
+    pos.push_back(x), v.push_back(vel), id.push_back(pid), type.push_back(t);
+  }
+  if (n > 1) {
+    vm *= 1. / static_cast<double>(n);
+    for (int i = first; i < size(); ++i)
+      v[i] -= vm;
+  }
+  relocate_overlapping(const_cast<System &>(s), 0xadd0000ull + seed);
+}
+
+int Fluid::prepare(System &s) {
+  try {
+    check_geometry(s.box(), s.time_step());
+  } catch (std::invalid_argument const &e) {
+    throw Utils::RuntimeError(std::string("SRD cannot run: ") + e.what());
+  }
+  // a pair interaction set on an SRD type after the fluid was created would be ignored
+  {
+    std::vector<char> seen(max_type, 0);
+    for (int t : type)
+      seen[t] = 1;
+    auto const &ia = s.interactions();
+    for (int t = 0; t < std::min(max_type, ia.n_types()); ++t)
+      for (int u = 0; seen[t] && u < ia.n_types(); ++u)
+        if (ia.get(t, u).max_cut > 0.)
+          throw Utils::RuntimeError("SRD cannot run: SRD type " + std::to_string(t) +
+                                    " has a pair interaction with type " + std::to_string(u) +
+                                    "; SRD particles take part in no pair interaction");
+  }
+  auto const cols = colloids_of(s, *this);
+  for (auto const &c : cols) {
+    for (int t = 0; t < max_type; ++t) {
+      auto const b = boundary(s.particles().type[c.index], t);
+      if (b.active && b.rule != BoundaryRule::slip && !(c.I > 0.))
+        throw Utils::RuntimeError(
+            "SRD: colloid " + std::to_string(s.particles().id[c.index]) +
+            " has a stick boundary rule but cannot rotate (set rotation=True and rinertia, "
+            "e.g. 0.4 M a^2; needs feature ROTATION)");
+    }
+  }
+  return relocate_overlapping(s, 0x5eed0000ull + s.step());
+}
+
+void Fluid::stream(System &s, double dt) {
+  auto const &box = s.box();
+  auto const &L = box.length();
+  int const n = size();
+  if (drive.on) {
+    double const h = 0.5 * L[drive.grad_dir];
+    for (int i = 0; i < n; ++i)
+      v[i][drive.flow_dir] += (pos[i][drive.grad_dir] < h ? drive.g : -drive.g) * dt;
+  }
+  if (drive.accel.norm2() > 0.)
+    for (int i = 0; i < n; ++i)
+      v[i] += dt * drive.accel;
+  if (m_p.wall_axis >= 0)
+    walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
+  auto cols = colloids_of(s, *this);
+  double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
+  if (cols.empty()) {
+    for (int i = 0; i < n; ++i) {
+      pos[i] += dt_free * v[i];
+      fold(pos[i], L);
+    }
+    return;
+  }
+  auto &ps = s.particles();
+  std::vector<Vector3d> dP(cols.size()), dL(cols.size());
+  std::uint64_t const step = s.step();
+  double const sig = std::sqrt(m_p.kT / m_p.mass);
+  double r_max = 0.;
+  std::vector<double> Rx(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    for (int t = 0; t < max_type; ++t)
+      r_max = std::max(r_max, boundary(ps.type[cols[j].index], t).radius);
+    Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
+  }
+  if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
+    r_max = INFINITY;
+  for (int i = 0; i < n; ++i) {
+    pos[i] += dt_free * v[i];
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      auto const &c = cols[j];
+      // quick rejection along x: pos (streamed once) and the folded centre
+      // differ by less than L + v dt, so one wrap gives the minimum image
+      // whenever it is shorter than r_max < L/2
+      double dx = pos[i][0] - Rx[j];
+      dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
+      if (std::abs(dx) >= r_max)
+        continue;
+      auto const b = boundary(ps.type[c.index], type[i]);
+      if (!b.active)
+        continue;
+      Vector3d d = box.get_mi_vector(pos[i], c.R);
+      if (d.norm2() >= b.radius * b.radius)
+        continue;
+      // seed 003: half a step back, onto the surface along the shortest vector
+      d -= (0.5 * dt) * v[i];
+      double const r = d.norm();
+      Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
+      Vector3d const arm = b.radius * nrm; // r* - R
+      Vector3d const vloc = c.V + cross(c.W, arm);
+      Vector3d vn;
+      if (b.rule == BoundaryRule::stochastic) {
+        // eqs. (1), (2) about the surface velocity: flux-weighted normal
+        // (Rayleigh) and Maxwellian tangential components
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
+                                          static_cast<std::uint64_t>(id[i]), 1);
+        double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
+        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+        t1 *= 1. / t1.norm();
+        Vector3d const t2 = cross(nrm, t1);
+        vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
+      } else if (b.rule == BoundaryRule::bounce_back) {
+        vn = 2. * vloc - v[i];
+      } else if (b.rule == BoundaryRule::rough) {
+        // mean tangential transfer of a rough-sphere collision (fraction 2K
+        // of the relative tangential velocity reversed); the rest redrawn
+        // from the Maxwellian so the rule keeps detailed balance
+        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+        double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+        t1 *= 1. / t1.norm();
+        Vector3d const t2 = cross(nrm, t1);
+        Vector3d const vr = v[i] - vloc;
+        Vector3d const vr_n = (vr * nrm) * nrm;
+        vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
+      } else { // slip: specular reflection in the frame of the surface
+        double const vr = (v[i] - vloc) * nrm;
+        vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
+      }
+      Vector3d const dp = m_p.mass * (v[i] - vn);
+      dP[j] += dp;
+      dL[j] += cross(arm, dp);
+      v[i] = vn;
+      pos[i] = c.R + arm + (0.5 * dt) * vn;
+      break;
+    }
+    fold(pos[i], L);
+  }
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    int const k = cols[j].index;
+    ps.v[k] += dP[j] / cols[j].M;
+    momentum_to_colloids += dP[j];
+#ifdef ROTATION
+    if (cols[j].I > 0.)
+      ps.omega[k] += dL[j] / cols[j].I;
+#endif
+  }
+}
+
+// Channel walls at x[a] = 0 and L: exact crossing time (planes are cheap),
+// the boundary rule in the frame of the wall, the rest of the step streamed.
+void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
+  int const a = m_p.wall_axis;
+  double const La = L[a];
+  double const sig = std::sqrt(m_p.kT / m_p.mass);
+  auto const rule = static_cast<BoundaryRule>(m_p.wall_rule);
+  for (int i = 0; i < size(); ++i) {
+    double t_left = dt;
+    for (int bounce = 0; bounce < 4; ++bounce) {
+      double const z = pos[i][a] + t_left * v[i][a];
+      if (z >= 0. && z < La)
+        break;
+      bool const lo = z < 0.;
+      double const tc = std::clamp(((lo ? 0. : La) - pos[i][a]) / v[i][a], 0., t_left);
+      pos[i] += tc * v[i];
+      pos[i][a] = lo ? 0. : std::nextafter(La, 0.);
+      t_left -= tc;
+      Vector3d nrm{};
+      nrm[a] = lo ? 1. : -1.; // into the fluid
+      Vector3d const vw = lo ? m_p.wall_v_lo : m_p.wall_v_hi;
+      Vector3d vn;
+      Vector3d const vr = v[i] - vw;
+      double const vrn = vr * nrm;
+      if (rule == BoundaryRule::stochastic) {
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 2 + bounce);
+        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
+                                          static_cast<std::uint64_t>(id[i]), 8 + bounce);
+        vn = vw + (sig * std::sqrt(-2. * std::log(unit_open0(u[0])))) * nrm;
+        int const t1 = (a + 1) % 3, t2 = (a + 2) % 3;
+        vn[t1] += sig * g[0];
+        vn[t2] += sig * g[1];
+      } else if (rule == BoundaryRule::bounce_back || rule == BoundaryRule::rough) {
+        vn = 2. * vw - v[i];
+      } else { // slip
+        vn = v[i] - (2. * vrn) * nrm;
+      }
+      (lo ? momentum_to_wall_lo : momentum_to_wall_hi) += m_p.mass * (v[i] - vn);
+      v[i] = vn;
+    }
+    pos[i] += t_left * v[i];
+    if (pos[i][a] < 0. || pos[i][a] >= La) // pathological: still outside
+      pos[i][a] = std::clamp(pos[i][a], 0., std::nextafter(La, 0.));
+  }
+}
+
+int Fluid::move_out(System &s) { return relocate_overlapping(s, 0x5eed0000ull + s.step()); }
+
+void Fluid::md_step(System &s) {
+  stream(s, s.time_step());
+  ++m_n_streams;
+  if (m_n_tau > 0 && m_n_streams % static_cast<std::uint64_t>(m_n_tau) == 0)
+    collide(s.box());
+}
+
+} // namespace Marble::Srd

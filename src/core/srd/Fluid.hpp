@@ -1,0 +1,149 @@
+#pragma once
+// Stochastic rotation dynamics (SRD / MPCD) solvent of point particles
+// (reference.md section 6, seed 003 = Padding et al. 2005, doc/srd.md).
+//
+// The SRD particles live in their own structure of arrays, not in the
+// ParticleStore: they have no pair interactions, move ballistically, and must
+// stay out of the Verlet lists, the skin check and the force machinery. The
+// MD particles (colloids, walls, their potentials) are integrated by the
+// ordinary integrators of the same System; the SRD particles are streamed
+// once per MD step (System::run_md calls md_step() after the drift) and
+// collide every tau = n_tau * time_step.
+//
+// Noise is counter based (utils/noise.hpp): the grid shift is keyed by
+// (seed, collision index), the rotation axis and the thermostat by
+// (seed, collision index, global cell index), the Andersen velocities and the
+// stochastic boundary by (seed, counter, particle id). A collision therefore
+// does not depend on the loop order or on how the particles are stored.
+#include "utils/Vector.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace Marble {
+
+class System;
+class BoxGeometry;
+class ParticleStore;
+
+namespace Srd {
+
+enum class CollisionRule { srd, at };
+// stochastic: seed 003 eqs. (1), (2) (diffuse, thermalising, stick);
+// bounce_back: relative velocity reversed (stick); slip: specular;
+// rough: Enskog's rough-sphere collision on average (normal reversed, a
+// fraction 2K, K = chi/(1 + chi), chi = 2/5, of the relative tangential
+// velocity reversed, the rest thermal noise): the collision behind seed
+// 003's Enskog frictions (doc/srd.md).
+enum class BoundaryRule { stochastic, bounce_back, slip, rough };
+
+struct Params {
+  double cell_size = 1.;
+  double tau = 0.1;   // collision interval (a multiple of the MD time step)
+  double angle = 0.;  // rotation angle alpha in radians (rule srd)
+  double kT = 1.;     // temperature of the thermostat, AT and stochastic walls
+  double mass = 1.;   // mass of one SRD particle
+  std::uint64_t seed = 0;
+  bool shift = true;             // random grid shift (Galilean invariance)
+  CollisionRule rule = CollisionRule::srd;
+  bool thermostat = false;       // cell-level Maxwell-Boltzmann scaling
+  bool conserve_angular = false; // AT+a: angular momentum conserving (rule at)
+  // Channel walls: planes at x[wall_axis] = 0 (velocity wall_v_lo) and = L
+  // (wall_v_hi) confine the SRD particles (-1: none). Collision cells are not
+  // wrapped across them.
+  int wall_axis = -1;
+  int wall_rule = 0; // a BoundaryRule value
+  Utils::Vector3d wall_v_lo{}, wall_v_hi{};
+};
+
+/** Boundary of colloid type c for SRD type s: a hard sphere of radius. */
+struct BoundaryParams {
+  bool active = false;
+  double radius = 0.;
+  BoundaryRule rule = BoundaryRule::stochastic;
+};
+
+/** Reverse Poiseuille drive (viscosity measurement): acceleration +g along
+ * flow_dir for particles with x[grad_dir] < L/2, -g above. */
+struct Drive {
+  bool on = false;
+  int flow_dir = 0, grad_dir = 2;
+  double g = 0.;
+  Utils::Vector3d accel{}; // uniform acceleration of every SRD particle (drag method)
+};
+
+class Fluid {
+public:
+  static constexpr int max_type = 256;
+
+  // SRD particles (folded positions)
+  std::vector<Utils::Vector3d> pos, v;
+  std::vector<int> id, type;
+
+  explicit Fluid(Params const &p) : m_p(p) {}
+  Params const &params() const { return m_p; }
+  /** Number of MD steps per collision (set by check_time_step). */
+  int steps_per_collision() const { return m_n_tau; }
+  std::uint64_t n_collisions() const { return m_n_collisions; }
+  std::uint64_t n_streams() const { return m_n_streams; }
+  /** Checkpoint restore: the collision and streaming counters. */
+  void set_counters(std::uint64_t collisions, std::uint64_t streams) {
+    m_n_collisions = collisions, m_n_streams = streams;
+  }
+  int size() const { return static_cast<int>(pos.size()); }
+
+  /** Throws std::invalid_argument unless tau is a multiple of @p dt and
+   * cell_size divides the box; stores the number of steps per collision. */
+  void check_geometry(BoxGeometry const &box, double dt);
+  /** Number of collision cells per axis. */
+  Utils::Vector3i grid() const { return m_grid; }
+  /** Ids of the SRD types. */
+  bool is_srd_type(int t) const;
+
+  /** Append @p n particles of type @p t, uniform in the box outside the
+   * colloids, Maxwellian velocities at kT (zero total momentum of the new
+   * ones); keyed by @p seed. */
+  void add_particles(System const &s, int n, int t, double kT, std::uint64_t seed);
+
+  // --- boundaries (colloid type c, SRD type s) ---
+  void set_boundary(int c, int s, BoundaryParams const &b);
+  BoundaryParams boundary(int c, int s) const;
+  bool any_boundary() const;
+
+  /** Before a run: geometry checks, colloids able to take torque, and SRD
+   * particles found inside a colloid are moved out (returns how many). */
+  int prepare(System &s);
+  /** Move SRD particles found inside a colloid to random free places
+   * (keyed by seed, step, id); returns how many were moved. */
+  int move_out(System &s);
+  /** One MD step: stream by time_step (bouncing off colloids, handing the
+   * impulses to them) and collide when due. Called after the MD drift. */
+  void md_step(System &s);
+  /** One collision at the current state (grid shift, rotation/AT, thermostat). */
+  void collide(BoxGeometry const &box);
+
+  Drive drive;
+
+  /** Sum of momentum exchanged with colloids (diagnostics). */
+  Utils::Vector3d momentum_to_colloids{};
+  /** Momentum handed to the lower / upper channel wall (wall stress). */
+  Utils::Vector3d momentum_to_wall_lo{}, momentum_to_wall_hi{};
+
+private:
+  void stream(System &s, double dt);
+  void walls(std::uint64_t step, double dt, Utils::Vector3d const &L);
+  int relocate_overlapping(System &s, std::uint64_t key);
+  Params m_p;
+  int m_n_tau = 0;
+  Utils::Vector3i m_grid{};
+  std::uint64_t m_n_collisions = 0;
+  std::uint64_t m_n_streams = 0;
+  std::vector<BoundaryParams> m_bnd; // max_type x max_type, lazily sized
+  // collision scratch
+  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2;
+  std::vector<Utils::Vector3d> m_p2, m_v2;
+};
+
+} // namespace Srd
+} // namespace Marble
