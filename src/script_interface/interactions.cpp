@@ -89,6 +89,8 @@ char const *role_name(Marble::KernelRole r) {
     return "colloid_surface";
   case Marble::KernelRole::wall_surface:
     return "wall_surface";
+  case Marble::KernelRole::srd_boundary:
+    return "srd_boundary";
   }
   return "?";
 }

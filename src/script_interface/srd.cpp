@@ -181,14 +181,10 @@ void bind_srd(py::class_<System> &cls) {
         check_no_pair_interaction(s, static_cast<int>(t));
         check_no_md_particles(s, static_cast<int>(t));
       }
-    // keep particles and boundaries of an existing fluid
-    if (s.srd) {
+    // keep the particles of an existing fluid (the boundaries are kernels of
+    // the interaction table: non_bonded_inter[c, s].srd_boundary)
+    if (s.srd)
       f->pos = s.srd->pos, f->v = s.srd->v, f->id = s.srd->id, f->type = s.srd->type;
-      for (int c = 0; c < Fluid::max_type; ++c)
-        for (int t = 0; t < Fluid::max_type; ++t)
-          if (s.srd->boundary(c, t).active)
-            f->set_boundary(c, t, s.srd->boundary(c, t));
-    }
     s.srd = f;
   });
   cls.def("srd_remove", [](System &s) { s.srd.reset(); });
@@ -251,12 +247,6 @@ void bind_srd(py::class_<System> &cls) {
     py::dict d;
     d["pos"] = to_array(f.pos), d["v"] = to_array(f.v), d["id"] = f.id, d["type"] = f.type;
     d["n_collisions"] = f.n_collisions(), d["n_streams"] = f.n_streams();
-    py::list b;
-    for (int c = 0; c < Fluid::max_type; ++c)
-      for (int t = 0; t < Fluid::max_type; ++t)
-        if (f.boundary(c, t).active)
-          b.append(py::make_tuple(c, t, f.boundary(c, t).radius, static_cast<int>(f.boundary(c, t).rule)));
-    d["boundaries"] = b;
     d["drive"] = py::make_tuple(f.drive.on, f.drive.flow_dir, f.drive.grad_dir, f.drive.g,
                                 vec_to_array(f.drive.accel));
     d["momentum_to_colloids"] = vec_to_array(f.momentum_to_colloids);
@@ -274,13 +264,6 @@ void bind_srd(py::class_<System> &cls) {
       throw Utils::RuntimeError("SRD checkpoint state is inconsistent");
     f.pos = x, f.v = u, f.id = ids, f.type = types;
     f.set_counters(d["n_collisions"].cast<std::uint64_t>(), d["n_streams"].cast<std::uint64_t>());
-    for (auto h : d["boundaries"].cast<py::list>()) {
-      auto t = h.cast<py::tuple>();
-      Marble::Srd::BoundaryParams b;
-      b.active = true, b.radius = t[2].cast<double>();
-      b.rule = static_cast<Marble::Srd::BoundaryRule>(t[3].cast<int>());
-      f.set_boundary(t[0].cast<int>(), t[1].cast<int>(), b);
-    }
     auto dr = d["drive"].cast<py::tuple>();
     f.drive.on = dr[0].cast<bool>(), f.drive.flow_dir = dr[1].cast<int>();
     f.drive.grad_dir = dr[2].cast<int>(), f.drive.g = dr[3].cast<double>();
@@ -324,58 +307,6 @@ void bind_srd(py::class_<System> &cls) {
       cnt[b] += 1.;
     }
     return py::make_tuple(vs, cnt);
-  });
-  cls.def("set_srd_boundary", [](System &s, int c, int t, py::dict kw) {
-    auto &f = fluid(s);
-    check_keys("srd_boundary", kw, {"radius", "rule"});
-    check_type("colloid type", c);
-    check_type("SRD type", t);
-    if (c == t)
-      value_error("srd_boundary: the colloid type and the SRD type must differ (got " +
-                  std::to_string(c) + " for both)");
-    if (!kw.contains("radius"))
-      value_error("parameter 'radius' is required for srd_boundary");
-    Marble::Srd::BoundaryParams b;
-    b.radius = check_double("radius", to_double("radius", kw["radius"]), 0., 1e6, true);
-    std::string rule = "stochastic";
-    if (kw.contains("rule")) {
-      if (!py::isinstance<py::str>(kw["rule"]))
-        value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough'");
-      rule = kw["rule"].cast<std::string>();
-    }
-    if (rule == "stochastic")
-      b.rule = Marble::Srd::BoundaryRule::stochastic;
-    else if (rule == "bounce_back")
-      b.rule = Marble::Srd::BoundaryRule::bounce_back;
-    else if (rule == "slip")
-      b.rule = Marble::Srd::BoundaryRule::slip;
-    else if (rule == "rough")
-      b.rule = Marble::Srd::BoundaryRule::rough;
-    else
-      value_error("parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough', got '" +
-                  rule + "'");
-    b.active = true;
-    f.set_boundary(c, t, b);
-  });
-  cls.def("get_srd_boundary", [](System &s, int c, int t) {
-    py::dict d;
-    check_type("colloid type", c);
-    check_type("SRD type", t);
-    if (!s.srd)
-      return d;
-    auto const b = s.srd->boundary(c, t);
-    if (!b.active)
-      return d;
-    static char const *names[] = {"stochastic", "bounce_back", "slip", "rough"};
-    d["radius"] = b.radius;
-    d["rule"] = names[static_cast<int>(b.rule)];
-    return d;
-  });
-  cls.def("deactivate_srd_boundary", [](System &s, int c, int t) {
-    check_type("colloid type", c);
-    check_type("SRD type", t);
-    if (s.srd)
-      s.srd->set_boundary(c, t, Marble::Srd::BoundaryParams{});
   });
 #else
   cls.def("srd_create", [](System &, py::dict) { throw Utils::FeaturesError("SRD", "SRDFluid"); });

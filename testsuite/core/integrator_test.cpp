@@ -15,19 +15,24 @@ using Utils::Vector3d;
 
 #ifdef LENNARD_JONES
 namespace {
+// LJ eps = sigma = 1, cutoff 2.5 between type-0 particles.
+void set_lj(System &s, double shift) {
+  Marble::LennardJones::Params p;
+  p.active = true;
+  p.epsilon = 1.;
+  p.sigma = 1.;
+  p.cutoff = 2.5;
+  p.shift = shift;
+  s.set_kernel<Marble::LennardJones>(0, 0, p);
+}
+
 // N = 4 n^3 particles on an fcc lattice at density rho (no overlaps), with
 // random velocities of temperature kT and zero total momentum.
 void fcc_lj_fluid(System &s, int n, double rho, double kT, std::uint64_t seed) {
   int const N = 4 * n * n * n;
   double const L = std::cbrt(N / rho);
   s.set_box_l({L, L, L});
-  Marble::LennardJones::Params p;
-  p.active = true;
-  p.epsilon = 1.;
-  p.sigma = 1.;
-  p.cutoff = 2.5;
-  p.shift = Marble::LennardJones::auto_shift(1., 2.5);
-  s.set_kernel<Marble::LennardJones>(0, 0, p);
+  set_lj(s, Marble::LennardJones::auto_shift(1., 2.5));
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0., std::sqrt(kT));
   double const a = L / n;
@@ -113,12 +118,7 @@ TEST(VelocityVerlet, RefusesBlowUpAndStaysUsable) {
   // Two LJ particles almost on top of each other: the step is refused with an
   // error naming the step and the particle; the positions are kept.
   System s({10., 10., 10.});
-  Marble::LennardJones::Params p;
-  p.active = true;
-  p.epsilon = 1.;
-  p.sigma = 1.;
-  p.cutoff = 2.5;
-  s.set_kernel<Marble::LennardJones>(0, 0, p);
+  set_lj(s, 0.);
   Marble::ParticleProperties a, b;
   a.id = 3;
   a.pos = {5., 5., 5.};
@@ -153,12 +153,7 @@ TEST(VelocityVerlet, RefusesBlowUpAndStaysUsable) {
 TEST(VelocityVerlet, NonFiniteForceIsReported) {
   // r = 1e-25: the LJ force overflows to inf before any step is made.
   System s({10., 10., 10.});
-  Marble::LennardJones::Params p;
-  p.active = true;
-  p.epsilon = 1.;
-  p.sigma = 1.;
-  p.cutoff = 2.5;
-  s.set_kernel<Marble::LennardJones>(0, 0, p);
+  set_lj(s, 0.);
   Marble::ParticleProperties a, b;
   a.id = 0;
   a.pos = {0., 1., 1.};

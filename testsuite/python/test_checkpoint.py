@@ -269,3 +269,18 @@ def test_steepest_descent_parameters():
     s2 = pickle.loads(pickle.dumps(s))
     assert s2.integrator.get_state() == s.integrator.get_state()
     assert s2._core.get_checkpoint_state() == s._core.get_checkpoint_state()
+
+
+def test_older_format_version_refused():
+    """A core blob of format version 1 (before the kernel registry wrote the
+    interactions field by field) is refused with a message naming both
+    versions; nothing changes."""
+    s, _, _ = make_scene("vv")
+    blob = bytearray(s._core.get_checkpoint_state())
+    before = bytes(blob)
+    version_at = 8  # after the 8-byte magic
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 2
+    blob[version_at:version_at + 4] = (1).to_bytes(4, "little")
+    with pytest.raises(RuntimeError, match="format version 1, this build reads version 2"):
+        s._core.set_checkpoint_state(bytes(blob))
+    assert s._core.get_checkpoint_state() == before

@@ -59,7 +59,7 @@ public:
   void refresh_prefactors(double kT, double dt) {
     for (auto &p : m_p)
       for_each_kernel<CompiledKernels>([&]<class K>() {
-        if constexpr (K::role != KernelRole::conservative)
+        if constexpr (requires { K::refresh(p.template get<K>(), kT, dt); })
           K::refresh(p.template get<K>(), kT, dt);
       });
   }

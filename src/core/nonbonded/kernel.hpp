@@ -10,7 +10,8 @@
 //   pair_dissipative: salt, force(P, d, r, v_ij, xi, M_ij), refresh(P &, kT, dt)
 //   colloid_surface:  salt, force(P, d, dist, v_bead, v_colloid, omega, xi), refresh
 //   wall_surface:     salt, refresh (the wall traversal applies it)
-// Colloid- and wall-surface kernels are ordered: non_bonded_inter[c, s] with c
+//   srd_boundary:     nothing more (the SRD streaming step applies it)
+// Colloid-surface, wall-surface and SRD-boundary kernels are ordered: non_bonded_inter[c, s] with c
 // the colloid or wall type; pair kernels are symmetric.
 #include "nonbonded/fields.hpp"
 
@@ -18,10 +19,10 @@
 
 namespace Marble {
 
-enum class KernelRole { conservative, pair_dissipative, colloid_surface, wall_surface };
+enum class KernelRole { conservative, pair_dissipative, colloid_surface, wall_surface, srd_boundary };
 
 constexpr bool is_ordered(KernelRole r) {
-  return r == KernelRole::colloid_surface || r == KernelRole::wall_surface;
+  return r == KernelRole::colloid_surface || r == KernelRole::wall_surface || r == KernelRole::srd_boundary;
 }
 constexpr bool in_pair_loop(KernelRole r) {
   return r == KernelRole::conservative || r == KernelRole::pair_dissipative;

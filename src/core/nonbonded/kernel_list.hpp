@@ -9,12 +9,13 @@
 #include "nonbonded/hat.hpp"
 #include "nonbonded/lennard_jones.hpp"
 #include "nonbonded/morse.hpp"
+#include "srd/boundary_kernel.hpp"
 #include "thermostats/dpd.hpp"
 
 namespace Marble {
 
 template <class... Ks> struct TypeList {};
 
-using AllKernels = TypeList<LennardJones, Hat, Morse, DPDPair, MarbleSurface, TunableSlip>;
+using AllKernels = TypeList<LennardJones, Hat, Morse, DPDPair, MarbleSurface, TunableSlip, SRDBoundary>;
 
 } // namespace Marble

@@ -67,22 +67,13 @@ bool Fluid::is_srd_type(int t) const {
   return false;
 }
 
-void Fluid::set_boundary(int c, int s, BoundaryParams const &b) {
-  if (m_bnd.empty())
-    m_bnd.resize(max_type * max_type);
-  m_bnd[c * max_type + s] = b;
-}
-
 BoundaryParams Fluid::boundary(int c, int s) const {
-  return m_bnd.empty() ? BoundaryParams{} : m_bnd[c * max_type + s];
+  if (!m_ia || c >= m_ia->n_types() || s >= m_ia->n_types())
+    return {};
+  return m_ia->get(c, s).get<SRDBoundary>();
 }
 
-bool Fluid::any_boundary() const {
-  for (auto const &b : m_bnd)
-    if (b.active)
-      return true;
-  return false;
-}
+bool Fluid::any_boundary() const { return m_ia && m_ia->any_active<SRDBoundary>(); }
 
 namespace {
 std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
@@ -108,6 +99,7 @@ std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
 } // namespace
 
 int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
+  m_ia = &s.interactions();
   auto const cols = colloids_of(s, *this);
   if (cols.empty())
     return 0;
@@ -172,6 +164,7 @@ void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_
 }
 
 int Fluid::prepare(System &s) {
+  m_ia = &s.interactions();
   try {
     check_geometry(s.box(), s.time_step());
   } catch (std::invalid_argument const &e) {
@@ -205,6 +198,7 @@ int Fluid::prepare(System &s) {
 }
 
 void Fluid::stream(System &s, double dt) {
+  m_ia = &s.interactions();
   auto const &box = s.box();
   auto const &L = box.length();
   int const n = size();

@@ -15,6 +15,8 @@
 // (seed, collision index, global cell index), the Andersen velocities and the
 // stochastic boundary by (seed, counter, particle id). A collision therefore
 // does not depend on the loop order or on how the particles are stored.
+#include "nonbonded/InteractionTable.hpp"
+#include "srd/boundary_kernel.hpp"
 #include "utils/Vector.hpp"
 
 #include <cstdint>
@@ -30,13 +32,6 @@ class ParticleStore;
 namespace Srd {
 
 enum class CollisionRule { srd, at };
-// stochastic: seed 003 eqs. (1), (2) (diffuse, thermalising, stick);
-// bounce_back: relative velocity reversed (stick); slip: specular;
-// rough: Enskog's rough-sphere collision on average (normal reversed, a
-// fraction 2K, K = chi/(1 + chi), chi = 2/5, of the relative tangential
-// velocity reversed, the rest thermal noise): the collision behind seed
-// 003's Enskog frictions (doc/srd.md).
-enum class BoundaryRule { stochastic, bounce_back, slip, rough };
 
 struct Params {
   double cell_size = 1.;
@@ -57,12 +52,9 @@ struct Params {
   Utils::Vector3d wall_v_lo{}, wall_v_hi{};
 };
 
-/** Boundary of colloid type c for SRD type s: a hard sphere of radius. */
-struct BoundaryParams {
-  bool active = false;
-  double radius = 0.;
-  BoundaryRule rule = BoundaryRule::stochastic;
-};
+/** Boundary of colloid type c for SRD type s: a hard sphere of radius
+ * (the srd_boundary kernel of the interaction table). */
+using BoundaryParams = SRDBoundary::Params;
 
 /** Reverse Poiseuille drive (viscosity measurement): acceleration +g along
  * flow_dir for particles with x[grad_dir] < L/2, -g above. */
@@ -107,7 +99,8 @@ public:
   void add_particles(System const &s, int n, int t, double kT, std::uint64_t seed);
 
   // --- boundaries (colloid type c, SRD type s) ---
-  void set_boundary(int c, int s, BoundaryParams const &b);
+  /** The srd_boundary kernel of types (c, s) in the System's interaction
+   * table (attached by prepare(), stream() and relocate_overlapping()). */
   BoundaryParams boundary(int c, int s) const;
   bool any_boundary() const;
 
@@ -139,7 +132,7 @@ private:
   Utils::Vector3i m_grid{};
   std::uint64_t m_n_collisions = 0;
   std::uint64_t m_n_streams = 0;
-  std::vector<BoundaryParams> m_bnd; // max_type x max_type, lazily sized
+  InteractionTable const *m_ia = nullptr; // the System's interaction table
   // collision scratch
   std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2;
   std::vector<Utils::Vector3d> m_p2, m_v2;

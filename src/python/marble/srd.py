@@ -6,7 +6,7 @@
                                      seed=42, shift=True, rule="srd")
     marble.srd.add_fluid(system, density=5, type=0, kT=1.0, seed=1)
     col = marble.srd.add_colloid(system, pos=[8, 8, 8], radius=2.0, mass=125.0, type=1)
-    marble.srd.boundary(system, 1, 0).set_params(radius=2.0, rule="stochastic")
+    system.non_bonded_inter[1, 0].srd_boundary.set_params(radius=2.0, rule="stochastic")
     system.integrator.run(1000)
 
 The SRD particles are kept by the SRD fluid itself (not in ``system.part``):
@@ -177,30 +177,11 @@ def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None):
     return n
 
 
-class SRDBoundaryInteraction:
-    """Boundary of colloid type ``c`` for SRD type ``s``: a hard sphere of
-    ``radius`` with the rule ``stochastic`` (seed 003: stick, thermalising),
-    ``bounce_back`` (stick) or ``slip`` (specular). Will become
-    ``system.non_bonded_inter[c, s].srd_boundary``."""
-
-    def __init__(self, system, c, s):
-        self._system, self._c, self._s = system, int(c), int(s)
-
-    def set_params(self, **kw):
-        self._system._core.set_srd_boundary(self._c, self._s, kw)
-
-    def get_params(self):
-        return self._system._core.get_srd_boundary(self._c, self._s)
-
-    def is_active(self):
-        return bool(self.get_params())
-
-    def deactivate(self):
-        self._system._core.deactivate_srd_boundary(self._c, self._s)
-
-
 def boundary(system, c, s):
-    return SRDBoundaryInteraction(system, c, s)
+    """``system.non_bonded_inter[c, s].srd_boundary``: the boundary of colloid
+    type ``c`` for SRD type ``s`` (``set_params(radius=, rule=)`` with rule
+    ``stochastic``, ``bounce_back``, ``slip`` or ``rough``)."""
+    return system.non_bonded_inter[c, s].srd_boundary
 
 
 def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule="stochastic",
