@@ -38,6 +38,10 @@ void bind_analysis(py::class_<System> &cls) {
     d["total"] = mat_to_array(tot);
     d["kinetic"] = mat_to_array(p.kinetic);
     d["non_bonded"] = mat_to_array(p.non_bonded);
+    // dissipative parts: separate, not in "total" (ESPResSo's total has none;
+    // the full mechanical stress is total + dpd + marble)
+    d["dpd"] = mat_to_array(p.dpd);
+    d["marble"] = mat_to_array(p.marble);
     return d;
   });
   cls.def("linear_momentum", [](System &s) { return vec_to_array(s.linear_momentum()); });

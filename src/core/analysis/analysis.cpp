@@ -82,8 +82,25 @@ PressureTensor System::pressure_tensor() {
       p.non_bonded[k] += vir[k] / V;
   }
 #endif
+#ifdef MARBLE
+  {
+    std::array<double, 9> dpd{}, marble{};
+    m_colloids.dissipative_virial(m_ps, m_ia, noise_context(true), dpd, marble);
+    for (int k = 0; k < 9; ++k) {
+      p.dpd[k] += dpd[k] / V;
+      p.marble[k] += marble[k] / V;
+    }
+  }
+#endif
   m_comm.sum_inplace(p.kinetic.data(), 9);
   m_comm.sum_inplace(p.non_bonded.data(), 9);
+  m_comm.sum_inplace(p.dpd.data(), 9);
+  m_comm.sum_inplace(p.marble.data(), 9);
+#ifdef DPD
+  auto const st = dpd_stress(); // main list, already summed over ranks
+  for (int k = 0; k < 9; ++k)
+    p.dpd[k] += st.friction[k] + st.noise[k];
+#endif
   return p;
 }
 

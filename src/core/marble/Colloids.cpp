@@ -74,9 +74,16 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
   }
 }
 
-void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const {
-  // without the thermostat only the conservative kernels act
-  unsigned const mask = noise.on ? all_pair_kernels : pair_kernels_with_role<KernelRole::conservative>();
+// Every colloid pair within range with the forces on the partner j: the
+// conservative and the dissipative pair kernels separately (their sum is the
+// pair force of forces/pair_force.hpp) and the marble coupling (with the
+// torque on the colloid). fn(c, j, d, f_cons, f_diss, marble) with
+// d = r_j - r_c(image).
+template <class Fn>
+void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable const &ia,
+                                   NoiseContext const &noise, Fn &&fn) const {
+  constexpr unsigned cons_mask = pair_kernels_with_role<KernelRole::conservative>();
+  constexpr unsigned diss_mask = pair_kernels_with_role<KernelRole::pair_dissipative>();
   for (auto const &pr : m_pairs) {
     int const c = pr.colloid, j = pr.other;
     int const tc = ps.type[c], tj = ps.type[j];
@@ -91,28 +98,51 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
     double const r = std::sqrt(r2);
     if (!(r > 0.))
       continue;
-    // Force on the partner j (F_i of the pair kernels with i = j).
+    // Forces on the partner j (F_i of the pair kernels with i = j); without
+    // the thermostat only the conservative kernels act.
     auto vij = [&] { return ps.v[j] - ps.v[c]; };
     auto xi = [&]<class K>() { return pair_noise(noise, K::salt, ps.id[j], ps.id[c]); };
     auto mfac = [&] { return pair_mass_factor(ps, j, c); };
-    Vector3d f = mask == all_pair_kernels ? pair_force<all_pair_kernels>(p, d, r, vij, xi, mfac)
-                                          : pair_force<pair_kernels_with_role<KernelRole::conservative>()>(
-                                                p, d, r, vij, xi, mfac);
-    Vector3d torque{};
+    Vector3d const f_cons = pair_force<cons_mask>(p, d, r, vij, xi, mfac);
+    Vector3d const f_diss = noise.on ? pair_force<diss_mask>(p, d, r, vij, xi, mfac) : Vector3d{};
+    MarbleForce mf;
     if (m.active && noise.on) {
       Vector3d const xim = Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
                                                 static_cast<std::uint64_t>(ps.id[c]),
                                                 static_cast<std::uint64_t>(ps.id[j]));
-      auto const mf = MarbleSurface::force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], xim);
-      f += mf.on_bead;
-      torque = mf.torque_colloid;
+      mf = MarbleSurface::force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], xim);
     }
-    ps.f[j] += f;
-    ps.f[c] -= f;
-#ifdef ROTATION
-    ps.torque[c] += torque;
-#endif
+    fn(c, j, d, f_cons, f_diss, mf);
   }
+}
+
+void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const {
+  for_each_pair_force(ps, ia, noise,
+                      [&](int c, int j, Vector3d const &, Vector3d const &f_cons, Vector3d const &f_diss,
+                          MarbleForce const &mf) {
+                        Vector3d f = f_cons;
+                        f += f_diss;
+                        f += mf.on_bead;
+                        ps.f[j] += f;
+                        ps.f[c] -= f;
+#ifdef ROTATION
+                        ps.torque[c] += mf.torque_colloid;
+#endif
+                      });
+}
+
+void Colloids::dissipative_virial(ParticleStore const &ps, InteractionTable const &ia,
+                                  NoiseContext const &noise, std::array<double, 9> &dpd,
+                                  std::array<double, 9> &marble) const {
+  for_each_pair_force(ps, ia, noise,
+                      [&](int, int, Vector3d const &d, Vector3d const &, Vector3d const &f_diss,
+                          MarbleForce const &mf) {
+                        for (int a = 0; a < 3; ++a)
+                          for (int b = 0; b < 3; ++b) {
+                            dpd[3 * a + b] += d[a] * f_diss[b];
+                            marble[3 * a + b] += d[a] * mf.on_bead[b];
+                          }
+                      });
 }
 
 void Colloids::conservative([[maybe_unused]] ParticleStore const &ps,

@@ -40,11 +40,19 @@ public:
    * the conservative colloid pair forces; adds to @p energy / @p virial. */
   void conservative(ParticleStore const &ps, InteractionTable const &ia,
                     std::vector<double> &energy, std::array<double, 9> &virial) const;
+  /** Virial tensors sum d (x) F of the colloid pairs' dissipative pair kernels
+   * (DPD) and of the marble coupling, with the current velocities and the
+   * noise of @p noise (d = r_partner - r_colloid, F on the partner); adds. */
+  void dissipative_virial(ParticleStore const &ps, InteractionTable const &ia, NoiseContext const &noise,
+                          std::array<double, 9> &dpd, std::array<double, 9> &marble) const;
   /** Empty if fine, else a message naming a colloid that cannot take torque. */
   std::string check_rotation(ParticleStore const &ps, InteractionTable const &ia) const;
   std::size_t n_pairs() const { return m_pairs.size(); }
 
 private:
+  template <class Fn>
+  void for_each_pair_force(ParticleStore const &ps, InteractionTable const &ia, NoiseContext const &noise,
+                           Fn &&fn) const;
   struct Pair {
     int colloid, other;
     Utils::Vector3d shift; // image of the colloid: pos[colloid] + shift

@@ -47,9 +47,12 @@ struct Energies {
   double total() const { return kinetic + non_bonded; }
 };
 
-/** Pressure tensor parts (already divided by the volume). */
+/** Pressure tensor parts (already divided by the volume): kinetic,
+ * conservative pair forces (non_bonded), and the dissipative ones with the
+ * current velocities and noise: the DPD pair forces (main list and colloid
+ * pairs, friction + noise) and the marble surface coupling. */
 struct PressureTensor {
-  std::array<double, 9> kinetic{}, non_bonded{}, dpd{};
+  std::array<double, 9> kinetic{}, non_bonded{}, dpd{}, marble{};
 };
 
 /** DPD pair-force contribution to the pressure tensor, split into friction

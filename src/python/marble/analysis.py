@@ -35,7 +35,14 @@ class Analysis:
         return dict(self._core.energy())
 
     def pressure_tensor(self):
-        """Pressure tensors (3x3): 'total', 'kinetic', 'non_bonded' (conservative forces)."""
+        """Pressure tensors (3x3), (1/V) sum of m v (x) v and d_ij (x) F_ij:
+        'kinetic', 'non_bonded' (conservative forces, including the colloid
+        pairs), 'total' = kinetic + non_bonded (as ESPResSo's total), and the
+        dissipative contributions of the current velocities and noise, kept
+        out of 'total': 'dpd' (DPD pair friction + noise, main list and colloid
+        pairs; the main-list part is :meth:`dpd_stress_split`'s 'total') and
+        'marble' (the marble surface coupling, d = r_bead - r_colloid, F on the
+        bead). The full mechanical stress is total + dpd + marble (doc/dpd.md)."""
         return dict(self._core.pressure_tensor())
 
     def pressure(self):
