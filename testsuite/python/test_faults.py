@@ -186,7 +186,7 @@ def test_h5md_full_disk(tmp_path):
     msg = out.split("ERROR:", 1)[1].strip().splitlines()[0]
     assert "traj.h5" in msg and "H5MD" in msg and "disk full" in msg, msg
     assert "USABLE" in out
-    if p.returncode == -signal.SIGSEGV and "H5F__close_cb" in p.stderr:
+    if p.returncode != 0 and "H5F__close_cb" in p.stderr:  # SIGSEGV, or ASan's report
         pytest.xfail("known HDF5 1.10.8 bug (Debian 12): after an H5Fclose that failed on a "
                      "full disk, HDF5's own termination at MPI_Finalize dereferences the "
                      "half-closed file and the process segfaults at exit; the error itself "
@@ -194,18 +194,32 @@ def test_h5md_full_disk(tmp_path):
     assert p.returncode == 0, out + p.stderr
 
 
-@pytest.mark.skipif(not marble.io.have_hdf5(), reason="built without HDF5")
-def test_h5md_dev_full():
+DEV_FULL = textwrap.dedent("""
+    import numpy as np
+    import marble, marble.io
     system = marble.System(box_l=[10.0] * 3)
     system.part.add(pos=np.random.default_rng(0).random((500, 3)) * 10)
-    with pytest.raises(RuntimeError, match="/dev/full"):
-        h5 = marble.io.H5md(file_path="/dev/full", system=system)
+    for mode in ("w", "append"):
         try:
-            for _ in range(20):
-                h5.write()
-            h5.flush()
-        finally:
-            h5.close()
+            marble.io.H5md(file_path="/dev/full", system=system, mode=mode)
+        except RuntimeError as e:
+            print("ERROR:", e)
+""")
+
+
+@pytest.mark.skipif(not marble.io.have_hdf5(), reason="built without HDF5")
+def test_h5md_dev_full(tmp_path):
+    # in a subprocess: the process must also exit cleanly (a failed H5Fcreate
+    # on a device used to leave HDF5 with a half-open file that crashed at exit)
+    script = tmp_path / "devfull.py"
+    script.write_text(DEV_FULL)
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                       timeout=300, env=dict(os.environ))
+    assert p.returncode == 0, p.stdout + p.stderr
+    errors = [ln for ln in p.stdout.splitlines() if ln.startswith("ERROR:")]
+    assert len(errors) == 2, p.stdout
+    for e in errors:
+        assert "'/dev/full': not a regular file" in e, e
 
 
 def test_checkpoint_path_below_a_file(tmp_path):

@@ -411,5 +411,24 @@ def test_reset_clears_types_without_particles():
     assert s.non_bonded_inter[2, 2].dpd.get_params() == {}
 
 
+def test_huge_cutoff_is_refused_at_run():
+    """Found by the fuzzer under UBSan: a cutoff of 1e300 made the periodic
+    image count overflow an int (CellSystem::make_ghosts); now the run stops
+    with a RuntimeError naming the range, and the System stays usable."""
+    if not marble.has_features("DPD"):
+        pytest.skip("needs DPD")
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.01
+    s.part.add(pos=[[1.0, 1.0, 1.0], [1.5, 1.0, 1.0]])
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=0, gamma=1.0, r_cut=1e300)
+    before = snapshot(s)
+    with pytest.raises(RuntimeError, match="interaction range .* box lengths"):
+        s.integrator.run(1)
+    assert not diff(before, snapshot(s))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=0, gamma=1.0, r_cut=1.0)
+    s.integrator.run(2)
+    assert s.step == 2
+
+
 def teardown_module(module):
     print(f"\nfuzz: {N_EXAMPLES} sequences of <= {N_STEPS} calls; {STATS}")

@@ -24,7 +24,16 @@ constexpr hsize_t chunk_frames = 256; // step/time/edges chunks
 constexpr hsize_t max_chunk_rows = 1 << 16;
 
 /** The system error of a failed call, if there is one. */
-std::string errno_text(int err) { return err ? std::string(std::strerror(err)) : "unknown cause"; }
+std::string errno_text(int err) {
+  // only causes a user can act on; the MPI-IO layer leaves unrelated codes behind
+  switch (err) {
+  case ENOENT: case EACCES: case EPERM: case ENOSPC: case EROFS: case EFBIG: case EDQUOT:
+  case ENOTDIR: case EISDIR:
+    return std::strerror(err);
+  default:
+    return "unknown cause";
+  }
+}
 
 /** A time-series group: value [frames, N(, 3)] with shared step/time. */
 struct Series {
@@ -374,6 +383,14 @@ H5mdFile::H5mdFile(System const &system, std::string const &path, H5mdFields con
   struct stat st {};
   errno = 0;
   bool const exists = ::stat(path.c_str(), &st) == 0;
+  // Refuse devices, directories, pipes before HDF5 sees them: a failed
+  // H5Fcreate on e.g. /dev/full leaves a half-open file in HDF5 1.10 that
+  // crashes the process at exit (doc/reliability.md).
+  if (exists && !S_ISREG(st.st_mode)) {
+    H5Pclose(fapl);
+    throw Utils::RuntimeError("H5MD: cannot " + std::string(append ? "append to" : "create") +
+                              " '" + path + "': not a regular file (a directory or a device)");
+  }
   if (append && exists) {
     m->file = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl);
     int const err = errno;
