@@ -111,13 +111,16 @@ void bind_io(py::module_ &m, py::class_<System> &cls) {
   m.def("have_hdf5", [] { return true; });
   py::class_<Marble::IO::H5mdFile>(m, "H5mdFile")
       .def(py::init([](System const &s, std::string const &path, py::object fields,
-                       std::string const &author) {
+                       std::string const &author, std::string const &mode) {
              if (path.empty())
                value_error("parameter 'file_path' must be a non-empty path");
+             if (mode != "w" && mode != "append")
+               value_error("parameter 'mode' must be 'w' (create or replace) or 'append', got '" +
+                           mode + "'");
              auto const f = parse_fields(fields);
-             return std::make_unique<Marble::IO::H5mdFile>(s, path, f, author);
+             return std::make_unique<Marble::IO::H5mdFile>(s, path, f, author, mode == "append");
            }),
-           "system"_a, "file_path"_a, "fields"_a, "author"_a)
+           "system"_a, "file_path"_a, "fields"_a, "author"_a, "mode"_a = "w")
       .def("write", &Marble::IO::H5mdFile::write, py::call_guard<py::gil_scoped_release>())
       .def("flush", &Marble::IO::H5mdFile::flush)
       .def("close", &Marble::IO::H5mdFile::close)

@@ -1,5 +1,7 @@
 #include "cells/CellSystem.hpp"
 
+#include "utils/errors.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -412,8 +414,20 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
 }
 
 void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut) {
+  double const range = max_cut > 0. ? max_cut + m_skin : 0.;
+  // Periodic images are made up to ceil(range / L) boxes away on each side:
+  // refuse absurd ranges (e.g. a cutoff of 1e300) before the image count
+  // overflows an int (found by testsuite/python/test_fuzz_api.py under UBSan).
+  constexpr double max_images = 16.;
+  for (int d = 0; d < 3; ++d)
+    if (!(range <= max_images * box.length()[d]))
+      throw Utils::RuntimeError(
+          "the interaction range " + std::to_string(range) + " (largest cutoff + skin) is more "
+          "than " + std::to_string(static_cast<int>(max_images)) + " box lengths along axis " +
+          std::to_string(d) + " (" + std::to_string(box.length()[d]) +
+          "): reduce the cutoff or enlarge the box");
   ps.clear_ghosts();
-  m_range = max_cut > 0. ? max_cut + m_skin : 0.;
+  m_range = range;
   for (int i = 0; i < ps.n_local(); ++i)
     box.fold(ps.pos[i], ps.image[i]);
   if (parallel())

@@ -8,6 +8,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cstring>
+#include <sys/stat.h>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +22,18 @@ namespace {
 constexpr hsize_t unlimited = H5S_UNLIMITED;
 constexpr hsize_t chunk_frames = 256; // step/time/edges chunks
 constexpr hsize_t max_chunk_rows = 1 << 16;
+
+/** The system error of a failed call, if there is one. */
+std::string errno_text(int err) {
+  // only causes a user can act on; the MPI-IO layer leaves unrelated codes behind
+  switch (err) {
+  case ENOENT: case EACCES: case EPERM: case ENOSPC: case EROFS: case EFBIG: case EDQUOT:
+  case ENOTDIR: case EISDIR:
+    return std::strerror(err);
+  default:
+    return "unknown cause";
+  }
+}
 
 /** A time-series group: value [frames, N(, 3)] with shared step/time. */
 struct Series {
@@ -40,13 +55,15 @@ struct H5mdFile::Impl {
   long frames = 0, n = -1;
   bool mpio = false; // MPI-IO driver (MPI initialised, parallel HDF5)
 
+  // errno is reset at the start of each public call, so a system error seen
+  // here (e.g. "File too large", "No space left on device") is this call's.
   void check(herr_t rc, char const *what) const {
     if (rc < 0)
-      throw Utils::RuntimeError("H5MD: " + std::string(what) + " failed for '" + path + "'");
+      throw Utils::RuntimeError("H5MD: " + std::string(what) + " failed for '" + path + "'" +
+                                (errno ? " (" + std::string(std::strerror(errno)) + ")" : ""));
   }
   hid_t check_id(hid_t id, char const *what) const {
-    if (id < 0)
-      throw Utils::RuntimeError("H5MD: " + std::string(what) + " failed for '" + path + "'");
+    check(id < 0 ? -1 : 0, what);
     return id;
   }
 
@@ -237,6 +254,97 @@ struct H5mdFile::Impl {
     }
   }
 
+  /** Open the datasets of a file written by Marble (append mode): fields,
+   * number of particles and frames must be consistent. */
+  void open_existing() {
+    static std::array<std::pair<char const *, int>, 7> const names{
+        {{"position", 3}, {"image", 3}, {"velocity", 3}, {"force", 3}, {"species", 0}, {"mass", 0}, {"id", 0}}};
+    std::array<bool, 7> const wanted{fields.position, fields.image, fields.velocity, fields.force,
+                                     fields.species,  fields.mass,  fields.id};
+    auto exists = [&](hid_t loc, char const *name) { return H5Lexists(loc, name, H5P_DEFAULT) > 0; };
+    std::string file_fields, want_fields;
+    bool any = false, mismatch = false;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      bool const has = exists(atoms, names[k].first);
+      any = any || has;
+      mismatch = mismatch || has != wanted[k];
+      if (has)
+        file_fields += std::string(file_fields.empty() ? "" : ", ") + names[k].first;
+      if (wanted[k])
+        want_fields += std::string(want_fields.empty() ? "" : ", ") + names[k].first;
+    }
+    bool const has_edges = exists(box, "edges");
+    any = any || has_edges;
+    if (!any)
+      return; // no frame written yet: datasets are created by the first write()
+    mismatch = mismatch || has_edges != fields.box;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      if (!wanted[k])
+        continue;
+      Series s;
+      s.name = names[k].first;
+      s.cols = names[k].second;
+      bool const is_int = s.name == "image" || s.name == "species" || s.name == "id";
+      s.file_type = is_int ? H5T_STD_I32LE : H5T_IEEE_F64LE;
+      s.mem_type = is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE;
+      if (!mismatch) {
+        s.group = check_id(H5Gopen2(atoms, s.name.c_str(), H5P_DEFAULT), "opening a group");
+        s.value = check_id(H5Dopen2(s.group, "value", H5P_DEFAULT), "opening a dataset");
+        series.push_back(s);
+      }
+    }
+    if (!mismatch && fields.box) {
+      edges_group = check_id(H5Gopen2(box, "edges", H5P_DEFAULT), "opening a group");
+      edges = check_id(H5Dopen2(edges_group, "value", H5P_DEFAULT), "opening a dataset");
+    }
+    hid_t const owner = !series.empty() ? series.front().group : edges_group;
+    if (!mismatch && owner >= 0)
+      mismatch = exists(owner, "time") != fields.time;
+    if (mismatch) {
+      if (has_edges)
+        file_fields += std::string(file_fields.empty() ? "" : ", ") + "box";
+      if (fields.box)
+        want_fields += std::string(want_fields.empty() ? "" : ", ") + "box";
+      throw Utils::RuntimeError("H5MD: cannot append to '" + path + "': it holds the fields [" +
+                                file_fields + "] (time: " +
+                                (owner >= 0 && exists(owner, "time") ? "yes" : "no") +
+                                "), not the requested [" + want_fields + "] (time: " +
+                                (fields.time ? "yes" : "no") + "); open it with the same fields");
+    }
+    step = check_id(H5Dopen2(owner, "step", H5P_DEFAULT), "opening the step dataset");
+    if (fields.time)
+      time = check_id(H5Dopen2(owner, "time", H5P_DEFAULT), "opening the time dataset");
+    auto dims_of = [&](hid_t ds) {
+      hid_t sp = H5Dget_space(ds);
+      int const rank = H5Sget_simple_extent_ndims(sp);
+      std::vector<hsize_t> d(static_cast<std::size_t>(std::max(rank, 0)));
+      H5Sget_simple_extent_dims(sp, d.data(), nullptr);
+      H5Sclose(sp);
+      return d;
+    };
+    auto const sd = dims_of(step);
+    long const nf = sd.empty() ? 0 : static_cast<long>(sd[0]);
+    std::vector<hid_t> all{edges, time};
+    for (auto const &s : series)
+      all.push_back(s.value);
+    for (hid_t ds : all) {
+      if (ds < 0)
+        continue;
+      auto const d = dims_of(ds);
+      if (d.empty() || static_cast<long>(d[0]) != nf)
+        throw Utils::RuntimeError("H5MD: cannot append to '" + path +
+                                  "': its time series have different numbers of frames "
+                                  "(an interrupted write?)");
+    }
+    frames = nf;
+    if (!series.empty()) {
+      auto const d = dims_of(series.front().value);
+      n = d.size() >= 2 ? static_cast<long>(d[1]) : -1;
+    } else {
+      n = -2; // box-only file: any number of particles
+    }
+  }
+
   void close_all() {
     for (auto &s : series) {
       H5Dclose(s.value);
@@ -257,7 +365,7 @@ struct H5mdFile::Impl {
 };
 
 H5mdFile::H5mdFile(System const &system, std::string const &path, H5mdFields const &fields,
-                   std::string const &author)
+                   std::string const &author, bool append)
     : m(std::make_unique<Impl>()) {
   m->comm = system.comm();
   m->path = path;
@@ -272,11 +380,50 @@ H5mdFile::H5mdFile(System const &system, std::string const &path, H5mdFields con
     m->mpio = true;
   }
 #endif
+  struct stat st {};
+  errno = 0;
+  bool const exists = ::stat(path.c_str(), &st) == 0;
+  // Refuse devices, directories, pipes before HDF5 sees them: a failed
+  // H5Fcreate on e.g. /dev/full leaves a half-open file in HDF5 1.10 that
+  // crashes the process at exit (doc/reliability.md).
+  if (exists && !S_ISREG(st.st_mode)) {
+    H5Pclose(fapl);
+    throw Utils::RuntimeError("H5MD: cannot " + std::string(append ? "append to" : "create") +
+                              " '" + path + "': not a regular file (a directory or a device)");
+  }
+  if (append && exists) {
+    m->file = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl);
+    int const err = errno;
+    H5Pclose(fapl);
+    if (m->file < 0)
+      throw Utils::RuntimeError("H5MD: cannot open '" + path + "' to append (" +
+                                (S_ISREG(st.st_mode) ? "not an HDF5 file, or not writable: "
+                                                     : "not a regular file: ") +
+                                errno_text(err) + ")");
+    try {
+      if (H5Lexists(m->file, "h5md", H5P_DEFAULT) <= 0 ||
+          H5Lexists(m->file, "particles", H5P_DEFAULT) <= 0)
+        throw Utils::RuntimeError("H5MD: cannot append to '" + path +
+                                  "': not an H5MD file (no /h5md or /particles group)");
+      m->particles = m->check_id(H5Gopen2(m->file, "particles", H5P_DEFAULT), "opening /particles");
+      if (H5Lexists(m->particles, "atoms", H5P_DEFAULT) <= 0)
+        throw Utils::RuntimeError("H5MD: cannot append to '" + path +
+                                  "': it has no /particles/atoms group (not written by Marble)");
+      m->atoms = m->check_id(H5Gopen2(m->particles, "atoms", H5P_DEFAULT), "opening /particles/atoms");
+      m->box = m->check_id(H5Gopen2(m->atoms, "box", H5P_DEFAULT), "opening the box group");
+      m->open_existing();
+    } catch (...) {
+      m->close_all();
+      throw;
+    }
+    return;
+  }
   m->file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  int const err = errno;
   H5Pclose(fapl);
   if (m->file < 0)
-    throw Utils::RuntimeError("H5MD: cannot create file '" + path +
-                              "' (does the directory exist and is it writable?)");
+    throw Utils::RuntimeError("H5MD: cannot create file '" + path + "' (" + errno_text(err) +
+                              "; does the directory exist and is it writable?)");
   try {
     hid_t h5md = m->group(m->file, "h5md");
     m->attr_ints(h5md, "version", {1, 1});
@@ -313,14 +460,32 @@ long H5mdFile::n_particles() const { return m->n; }
 std::string const &H5mdFile::path() const { return m->path; }
 
 void H5mdFile::write(System const &system) {
+  errno = 0;
   if (m->file < 0)
     throw Utils::RuntimeError("H5MD: the file '" + m->path + "' is closed");
+  try {
+    write_frame(system);
+  } catch (Utils::RuntimeError const &e) {
+    std::string const what = e.what();
+    if (what.find("number of particles") != std::string::npos ||
+        what.find("no particles") != std::string::npos)
+      throw;
+    throw Utils::RuntimeError(what + " while writing frame " + std::to_string(m->frames) +
+                              " (is the disk full, or the file size limited?); the file keeps " +
+                              std::to_string(m->frames) + " complete frame(s)");
+  }
+}
+
+void H5mdFile::write_frame(System const &system) {
   auto const &ps = system.particles();
   int const n_local = ps.n_local();
   std::vector<int> local_ids(ps.id.begin(), ps.id.begin() + n_local);
   auto all_ids = m->comm.allgatherv(local_ids);
   long const N = static_cast<long>(all_ids.size());
-  if (m->n < 0) {
+  if (m->n == -2) { // appending to a file with the box only
+    if (N == 0)
+      throw Utils::RuntimeError("H5MD: the system has no particles: nothing to write");
+  } else if (m->n < 0) {
     if (N == 0)
       throw Utils::RuntimeError("H5MD: the system has no particles: nothing to write");
     m->create_datasets(N);
@@ -409,10 +574,23 @@ void H5mdFile::write(System const &system) {
 }
 
 void H5mdFile::flush() {
-  if (m->file >= 0)
-    m->check(H5Fflush(m->file, H5F_SCOPE_GLOBAL), "flushing");
+  errno = 0;
+  if (m->file >= 0 && H5Fflush(m->file, H5F_SCOPE_GLOBAL) < 0)
+    throw Utils::RuntimeError("H5MD: flushing '" + m->path + "' failed (" + errno_text(errno) +
+                              ")");
 }
 
-void H5mdFile::close() { m->close_all(); }
+void H5mdFile::close() {
+  if (m->file < 0)
+    return;
+  // flush first: a full disk or a vanished file shows up here, as an error
+  errno = 0;
+  herr_t const rc = H5Fflush(m->file, H5F_SCOPE_GLOBAL);
+  int const err = errno;
+  m->close_all();
+  if (rc < 0)
+    throw Utils::RuntimeError("H5MD: writing '" + m->path + "' failed while closing it (" +
+                              errno_text(err) + "); the file is closed and may be incomplete");
+}
 
 } // namespace Marble::IO

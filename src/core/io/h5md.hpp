@@ -26,9 +26,13 @@ struct H5mdFields {
 
 class H5mdFile {
 public:
-  /** Create (truncate) @p path. Throws Utils::RuntimeError if it cannot. */
+  /** Create (truncate) @p path, or with @p append open an existing H5MD file
+   * written by Marble and continue its time series (a missing file is
+   * created). Appending needs the file's fields to be @p fields; frames keep
+   * the file's number of particles. Throws Utils::RuntimeError if the file
+   * cannot be created/opened or does not match. */
   H5mdFile(System const &system, std::string const &path, H5mdFields const &fields,
-           std::string const &author);
+           std::string const &author, bool append = false);
   ~H5mdFile();
   H5mdFile(H5mdFile const &) = delete;
   H5mdFile &operator=(H5mdFile const &) = delete;
@@ -37,6 +41,8 @@ public:
    * particles is fixed by the first frame: a change throws Utils::RuntimeError. */
   void write(System const &system);
   void flush();
+  /** Close the file; throws Utils::RuntimeError if the final write fails
+   * (e.g. a full disk); the file is closed either way. */
   void close();
   bool is_open() const;
   long n_frames() const;
@@ -45,6 +51,7 @@ public:
   std::string const &path() const;
 
 private:
+  void write_frame(System const &system);
   struct Impl;
   std::unique_ptr<Impl> m;
 };

@@ -246,7 +246,9 @@ class Checkpoint:
         last one) into the namespace under their registered names (which are
         registered here too). The file is validated completely first; on any
         error (CheckpointError, a RuntimeError) the namespace is unchanged.
-        Collective in an MPI run (same number of ranks as at save)."""
+        Collective in an MPI run. On the number of ranks of the save the
+        continuation is bit-exact; on another number the particles are
+        redistributed to the new domains and it agrees to round-off."""
         index = self._check_index(checkpoint_index)
         if index is None:
             index = self.get_last_checkpoint_index()

@@ -60,12 +60,18 @@ class H5md:
         time, step. ``step`` is always written (H5MD requires it).
     author : str, optional
         ``h5md/author`` name (default: the user name).
+    mode : "w" or "append"
+        ``"w"`` (default) creates the file, replacing an existing one;
+        ``"append"`` continues the time series of an existing file written by
+        Marble with the same ``fields`` (``n_frames`` starts at the file's
+        frame count; the number of particles stays the file's), or creates a
+        missing file.
 
     Raises ``marble.FeaturesError`` in a build without HDF5, ``ValueError``
     for bad parameters, ``RuntimeError`` if the file cannot be created.
     """
 
-    _allowed = ("file_path", "system", "fields", "author")
+    _allowed = ("file_path", "system", "fields", "author", "mode")
 
     def __init__(self, **kwargs):
         unknown = set(kwargs) - set(self._allowed)
@@ -93,8 +99,13 @@ class H5md:
                 author = "unknown"
         if not isinstance(author, str):
             raise ValueError("parameter 'author' must be a str")
+        mode = kwargs.get("mode", "w")
+        if mode not in ("w", "append"):
+            raise ValueError(f"parameter 'mode' must be 'w' (create or replace) or 'append', "
+                             f"got {mode!r}")
         self._fields = fields
-        self._file = _marble.H5mdFile(self._system._core, path, fields, author)
+        self._mode = mode
+        self._file = _marble.H5mdFile(self._system._core, path, fields, author, mode)
         _open_files.add(self)
 
     @property
@@ -106,6 +117,10 @@ class H5md:
     def fields(self):
         """The fields as given ("all" or a list)."""
         return self._fields
+
+    @property
+    def mode(self):
+        return self._mode
 
     @property
     def system(self):
