@@ -278,8 +278,15 @@ class ApiMachine(RuleBasedStateMachine):
             for k, v in params.items():
                 if isinstance(v, float) and k in got and not (k == "shift"):
                     assert got[k] == pytest.approx(v), (kind, k, v, got[k])
-            # symmetric
-            assert getattr(self.system.non_bonded_inter[j, i], kind).get_params() == got
+            # symmetric (compared as text: NaN == NaN)
+            other = getattr(self.system.non_bonded_inter[j, i], kind).get_params()
+            assert repr(sorted(other.items())) == repr(sorted(got.items()))
+            # accepted parameters are finite; known bug (test_lj_auto_shift_overflow, xfail):
+            # shift="auto" with sigma/cutoff ~ 1e300 gives shift NaN
+            for k, v in got.items():
+                if kind == "lennard_jones" and k == "shift" and params.get("shift") == "auto":
+                    continue
+                assert math.isfinite(v), f"{kind} {params} accepted with {k} = {v}"
 
     @rule(kind=st.sampled_from(KINDS), i=type_value, j=type_value)
     def deactivate_interaction(self, kind, i, j):
@@ -409,6 +416,17 @@ def test_reset_clears_types_without_particles():
     s.non_bonded_inter.reset()
     assert s.non_bonded_inter[0, 1].hat.get_params() == {}
     assert s.non_bonded_inter[2, 2].dpd.get_params() == {}
+
+
+@pytest.mark.xfail(strict=True, reason="bug: lennard_jones.set_params(shift='auto') accepts "
+                   "sigma/cutoff so large that (sigma/cutoff)^12 overflows and the shift is NaN "
+                   "(src/script_interface/interactions.cpp set_lj; found by the fuzzer, seed 7; "
+                   "fix: reject a non-finite auto shift with a ValueError naming sigma and cutoff)")
+def test_lj_auto_shift_overflow():
+    s = marble.System(box_l=[L, L, L])
+    with pytest.raises(ValueError, match="sigma"):
+        s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1e300, cutoff=1.0,
+                                                          shift="auto")
 
 
 def test_huge_cutoff_is_refused_at_run():
