@@ -281,12 +281,10 @@ class ApiMachine(RuleBasedStateMachine):
             # symmetric (compared as text: NaN == NaN)
             other = getattr(self.system.non_bonded_inter[j, i], kind).get_params()
             assert repr(sorted(other.items())) == repr(sorted(got.items()))
-            # accepted parameters are finite; known bug (test_lj_auto_shift_overflow, xfail):
-            # shift="auto" with sigma/cutoff ~ 1e300 gives shift NaN
+            # accepted parameters are finite (regression: test_lj_auto_shift_overflow)
             for k, v in got.items():
-                if kind == "lennard_jones" and k == "shift" and params.get("shift") == "auto":
-                    continue
-                assert math.isfinite(v), f"{kind} {params} accepted with {k} = {v}"
+                if isinstance(v, float):
+                    assert math.isfinite(v), f"{kind} {params} accepted with {k} = {v}"
 
     @rule(kind=st.sampled_from(KINDS), i=type_value, j=type_value)
     def deactivate_interaction(self, kind, i, j):
@@ -299,10 +297,9 @@ class ApiMachine(RuleBasedStateMachine):
     def reset_interactions(self):
         ok, _ = self.attempt(lambda: self.system.non_bonded_inter.reset(), "non_bonded_inter.reset()")
         assert ok
-        # Known bug (test_reset_clears_types_without_particles, xfail): reset()
-        # only clears the pairs of types up to the largest type of a particle.
-        types = [int(t) for t in self.system.part.all().type] if len(self.system.part) else []
-        checked = range(max(types, default=0) + 1)
+        # every type pair, with or without particles (regression:
+        # test_reset_clears_types_without_particles)
+        checked = sorted(set(TYPES) | {255})
         for i in checked:
             for j in checked:
                 for kind in KINDS:
@@ -403,12 +400,9 @@ if SEED:
 TestApiFuzz = ApiMachine.TestCase
 
 
-@pytest.mark.xfail(strict=True, reason="bug: NonBondedInteractions.reset() "
-                   "(src/python/marble/interactions.py) deactivates only the pairs of types up "
-                   "to the largest type a particle has, so interactions of types without "
-                   "particles survive a reset (found by the fuzzer; fix: loop over the core "
-                   "table's n_types, which is not bound to Python yet)")
 def test_reset_clears_types_without_particles():
+    """Found by the fuzzer: reset() used to clear only the types of existing
+    particles; the kernel registry's reset clears the whole table."""
     s = marble.System(box_l=[L, L, L])
     s.part.add(pos=[1.0, 1.0, 1.0], type=0)
     s.non_bonded_inter[0, 1].hat.set_params(F_max=1.0, cutoff=1.0)
@@ -418,11 +412,10 @@ def test_reset_clears_types_without_particles():
     assert s.non_bonded_inter[2, 2].dpd.get_params() == {}
 
 
-@pytest.mark.xfail(strict=True, reason="bug: lennard_jones.set_params(shift='auto') accepts "
-                   "sigma/cutoff so large that (sigma/cutoff)^12 overflows and the shift is NaN "
-                   "(src/script_interface/interactions.cpp set_lj; found by the fuzzer, seed 7; "
-                   "fix: reject a non-finite auto shift with a ValueError naming sigma and cutoff)")
 def test_lj_auto_shift_overflow():
+    """Found by the fuzzer (seed 7): shift="auto" with (sigma/cutoff)^12
+    overflowing gave a NaN shift; a keyword value that is not finite is now a
+    ValueError naming what it is computed from."""
     s = marble.System(box_l=[L, L, L])
     with pytest.raises(ValueError, match="sigma"):
         s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1e300, cutoff=1.0,

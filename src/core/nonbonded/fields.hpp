@@ -33,7 +33,8 @@ template <class P> struct Field {
   double default_value = 0.;
   double lo = -INFINITY, hi = INFINITY;
   bool lo_open = false, hi_open = false;
-  /** integer: text of the allowed values for the message; choice: the names of 0, 1, ... */
+  /** integer: text of the allowed values for the message; keyword: what it is computed from;
+   * choice: the names of 0, 1, ... */
   std::vector<char const *> choices = {};
   char const *hint = nullptr;
   /** real: a keyword (e.g. "auto") whose value is computed from the fields before it */
@@ -88,8 +89,14 @@ template <class P> double field_number(Field<P> const &f, FieldValue const &v, P
     break;
   }
   if (v.kind == FieldValue::Kind::text) {
-    if (f.keyword && v.text == f.keyword)
-      return f.keyword_value(sofar);
+    if (f.keyword && v.text == f.keyword) {
+      double const x = f.keyword_value(sofar);
+      if (!std::isfinite(x))
+        Utils::value_error("parameter '" + key + "' = \"" + f.keyword + "\" computed from " +
+                           (f.hint ? f.hint : "the other parameters") + " is not finite (" +
+                           Utils::to_str(x) + ")");
+      return x;
+    }
     if (f.keyword)
       Utils::value_error("parameter '" + key + "' must be a number or \"" + f.keyword + "\"");
     Utils::value_error("parameter '" + key + "' must be a number, got str");

@@ -34,6 +34,7 @@ struct LennardJones {
       for (auto k : {0, 1, 2})
         f[k].required = true;
       f[3].keyword = "auto";
+      f[3].hint = "sigma and cutoff";
       f[3].keyword_value = [](P const &p) { return auto_shift(p.sigma, p.cutoff); };
       return f;
     }();
