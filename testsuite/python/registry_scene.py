@@ -56,7 +56,7 @@ def trajectory_end(integrator, n_steps=N_STEPS):
     p = s.part.all()
     order = np.argsort(p.id)
     e = s.analysis.energy()
-    st = s.analysis.dpd_stress()
+    st = s.analysis.dpd_stress_split()
     return {"pos": p.pos[order], "v": p.v[order], "omega": p.omega_lab[order],
             "f": p.f[order], "energy": np.array([e["total"], e["non_bonded"]]),
             "pressure": s.analysis.pressure_tensor()["total"],

@@ -6,8 +6,10 @@
 // order in which the pair loop adds the kernels' forces.
 #include "constraints/tunable_slip.hpp"
 #include "marble/marble_kernel.hpp"
+#include "nonbonded/contact.hpp"
 #include "nonbonded/hat.hpp"
 #include "nonbonded/lennard_jones.hpp"
+#include "nonbonded/lubrication.hpp"
 #include "nonbonded/morse.hpp"
 #include "thermostats/dpd.hpp"
 
@@ -15,6 +17,9 @@ namespace Marble {
 
 template <class... Ks> struct TypeList {};
 
-using AllKernels = TypeList<LennardJones, Hat, Morse, DPDPair, MarbleSurface, TunableSlip>;
+// new kernels go after the existing ones of their role (the summation order of
+// existing scenes stays the same: testsuite/python/test_registry_regression.py)
+using AllKernels =
+    TypeList<LennardJones, Hat, Morse, Contact, DPDPair, Lubrication, MarbleSurface, TunableSlip>;
 
 } // namespace Marble

@@ -17,6 +17,7 @@ enum class RNGSalt : std::uint64_t {
   marble = 2,
   tunable_slip_wall = 3,
   langevin = 4,
+  lubrication = 16, // suspensions (nonbonded/lubrication.hpp); far from the others' next numbers
 };
 
 /** Four raw 64-bit words for counter @p step and keys. */
