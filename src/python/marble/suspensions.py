@@ -125,6 +125,9 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       eps, alpha, rmin, cutoff (offset 2R added), DPD with ``gamma`` on every pair.
     - The DPD thermostat at ``kT`` with ``seed``.
 
+    The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
+    equilibrate a few time units before measuring (doc/suspensions.md).
+
     Every parameter is checked before anything changes (ValueError naming
     it). Returns a dict of what was set (counts, cutoffs, parameters, ids).
     Colloid-colloid pairs go through the main Verlet list (range 2R + h_cut):
