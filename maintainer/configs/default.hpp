@@ -7,8 +7,10 @@
 #define LENNARD_JONES
 #define HAT
 #define MORSE
+#define CONTACT
 #define DPD
 #define TRANS_DPD
 #define MARBLE
 #define TUNABLE_SLIP
 #define SRD
+#define LUBRICATION

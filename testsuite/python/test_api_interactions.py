@@ -113,7 +113,7 @@ def test_hat_set_get_deactivate_and_pair():
     hat = s.non_bonded_inter[0, 0].hat
     assert hat.get_params() == {}
     hat.set_params(F_max=25.0, cutoff=1.0)
-    assert hat.get_params() == pytest.approx(dict(F_max=25.0, cutoff=1.0))
+    assert hat.get_params() == pytest.approx(dict(F_max=25.0, cutoff=1.0, offset=0.0))
     e = s.analysis.energy()["non_bonded"]
     assert e == pytest.approx(25.0 * 0.6 ** 2 / 2, rel=1e-12)
     s.integrator.run(0)

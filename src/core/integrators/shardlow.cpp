@@ -12,6 +12,8 @@
 //      the momentum mu (u' - u) e going to i and -mu (u' - u) e to j (momentum
 //      is conserved pair by pair; the stationary variance of u is exactly kT/mu
 //      for any dt, so the friction is unconditionally stable);
+//      then, for pairs with lubrication (nonbonded/lubrication.hpp), the same
+//      exact OU step along e with the squeeze friction a_sq(h) and its own noise;
 //   2. velocity Verlet with the remaining forces (conservative forces, and the
 //      colloid pairs and walls with their own explicit friction and noise).
 // xi is the DPD pair noise of reference.md section 1 (uniform, variance 1/12,
@@ -71,6 +73,10 @@ void shardlow_sweep(System &sys) {
   NoiseContext const noise = sys.noise_context(true);
   double const kT = sys.thermostat().dpd.kT;
   std::array<Vector3d, kPairBlock> xi;
+#ifdef LUBRICATION
+  std::array<Vector3d, kPairBlock> xi_lub;
+  bool const any_lub = ia.any_active<Lubrication>();
+#endif
   for_each_pair_block(ps, sys.cells().pairs(), ia, [&](PairBlock const &b) {
     // the noise of the block's pairs (independent draws the CPU overlaps), then
     // the sequential exact pair updates in list order
@@ -78,46 +84,84 @@ void shardlow_sweep(System &sys) {
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
     else
       std::fill(xi.begin(), xi.begin() + b.size, Vector3d{});
+#ifdef LUBRICATION
+    if (any_lub) {
+      if (kT > 0.)
+        draw_block_noise<Lubrication>(b, ps, ia, noise, xi_lub);
+      else
+        std::fill(xi_lub.begin(), xi_lub.begin() + b.size, Vector3d{});
+    }
+#endif
     for (int s = 0; s < b.size; ++s) {
       int const i = b.i[s], j = b.j[s];
-      DPDParams const &p = ia.get(ps.type[i], ps.type[j]).get<DPDPair>();
+      IAParams const &pair = ia.get(ps.type[i], ps.type[j]);
       Vector3d const d = ps.pos[i] - ps.pos[j];
       double const r2 = d.norm2();
-      if (!p.active || !(r2 > 0.))
+      if (!(r2 > 0.))
         continue;
-      double const r = std::sqrt(r2);
-      double const w = p.radial.weight(r);
+      // the DPD pair update
+      [&] {
+        DPDParams const &p = pair.get<DPDPair>();
+        if (!p.active)
+          return;
+        double const r = std::sqrt(r2);
+        double const w = p.radial.weight(DPDPair::gap(p, r));
 #ifdef TRANS_DPD
-      double const wt = p.trans.weight(r);
-      if (w <= 0. && wt <= 0.)
-        continue;
+        double const wt = p.trans.weight(DPDPair::gap(p, r));
+        if (w <= 0. && wt <= 0.)
+          return;
 #else
-      if (w <= 0.)
-        continue;
+        if (w <= 0.)
+          return;
 #endif
-      int const oi = owner(ps, i), oj = owner(ps, j);
-      double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
-      double const mu = mi * mj / (mi + mj);
-      double const mfac = dpd_mass_factor(mi, mj);
-      Vector3d const e = d / r;
-      Vector3d const vij = ps.v[oi] - ps.v[oj];
-      double const u = e * vij;
-      Vector3d du{};
-      if (w > 0. && p.radial.gamma > 0.) {
-        OU const ou(p.radial.gamma * mfac * w * w * dt / mu, kT / mu);
-        du = ((ou.a - 1.) * u + ou.s * (e * xi[s])) * e;
-      }
+        int const oi = owner(ps, i), oj = owner(ps, j);
+        double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
+        double const mu = mi * mj / (mi + mj);
+        double const mfac = dpd_mass_factor(mi, mj);
+        Vector3d const e = d / r;
+        Vector3d const vij = ps.v[oi] - ps.v[oj];
+        double const u = e * vij;
+        Vector3d du{};
+        if (w > 0. && p.radial.gamma > 0.) {
+          OU const ou(p.radial.gamma * mfac * w * w * dt / mu, kT / mu);
+          du = ((ou.a - 1.) * u + ou.s * (e * xi[s])) * e;
+        }
 #ifdef TRANS_DPD
-      if (wt > 0. && p.trans.gamma > 0.) {
-        OU const ou(p.trans.gamma * mfac * wt * wt * dt / mu, kT / mu);
-        Vector3d const u_perp = vij - u * e;
-        Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
-        du += (ou.a - 1.) * u_perp + ou.s * xi_perp;
+        if (wt > 0. && p.trans.gamma > 0.) {
+          OU const ou(p.trans.gamma * mfac * wt * wt * dt / mu, kT / mu);
+          Vector3d const u_perp = vij - u * e;
+          Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
+          du += (ou.a - 1.) * u_perp + ou.s * xi_perp;
+        }
+#endif
+        Vector3d const dp = mu * du;
+        ps.v[oi] += dp / mi;
+        ps.v[oj] -= dp / mj;
+      }();
+#ifdef LUBRICATION
+      // then the pair's lubrication, its own exact OU step along e (rate
+      // a_sq/mu; composing the two OU steps is exact: both keep the variance
+      // kT/mu): the stiff near-contact friction does not limit dt
+      if (any_lub) {
+        Lubrication::Params const &lp = pair.get<Lubrication>();
+        if (!lp.active)
+          continue;
+        double const r = std::sqrt(r2);
+        double const h = r - lp.offset;
+        if (h >= lp.h_cut)
+          continue;
+        int const oi = owner(ps, i), oj = owner(ps, j);
+        double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
+        double const mu = mi * mj / (mi + mj);
+        Vector3d const e = d / r;
+        double const u = e * (ps.v[oi] - ps.v[oj]);
+        OU const ou(Lubrication::friction(lp, h) * dt / mu, kT / mu);
+        double const du = (ou.a - 1.) * u + ou.s * Lubrication::noise_weight(lp, h) * (e * xi_lub[s]);
+        Vector3d const dp = (mu * du) * e;
+        ps.v[oi] += dp / mi;
+        ps.v[oj] -= dp / mj;
       }
 #endif
-      Vector3d const dp = mu * du;
-      ps.v[oi] += dp / mi;
-      ps.v[oj] -= dp / mj;
     }
   });
 }

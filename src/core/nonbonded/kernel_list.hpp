@@ -6,8 +6,10 @@
 // order in which the pair loop adds the kernels' forces.
 #include "constraints/tunable_slip.hpp"
 #include "marble/marble_kernel.hpp"
+#include "nonbonded/contact.hpp"
 #include "nonbonded/hat.hpp"
 #include "nonbonded/lennard_jones.hpp"
+#include "nonbonded/lubrication.hpp"
 #include "nonbonded/morse.hpp"
 #include "srd/boundary_kernel.hpp"
 #include "thermostats/dpd.hpp"
@@ -16,6 +18,9 @@ namespace Marble {
 
 template <class... Ks> struct TypeList {};
 
-using AllKernels = TypeList<LennardJones, Hat, Morse, DPDPair, MarbleSurface, TunableSlip, SRDBoundary>;
+// new kernels go after the existing ones of their role (the summation order of
+// existing scenes stays the same: testsuite/python/test_registry_regression.py)
+using AllKernels = TypeList<LennardJones, Hat, Morse, Contact, DPDPair, Lubrication, MarbleSurface,
+                            TunableSlip, SRDBoundary>;
 
 } // namespace Marble

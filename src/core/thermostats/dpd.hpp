@@ -3,11 +3,16 @@
 //   F_i = P [ -g_par w_par^2 v + s_par w_par xi ] + (I - P)[ -g_perp w_perp^2 v + s_perp w_perp xi ]
 // with P = e e^T, s = sqrt(24 kT g / dt) (uniform noise of variance 1/12),
 // w = 1 (weight_function 0) or 1 - (r/r_cut)^k (weight_function 1).
+// The optional offset (default 0, not in espressomd) evaluates the weights at
+// the gap x = max(r - offset, 0) (r_cut measured from the offset), e.g.
+// offset = R for the colloid-solvent DPD of seed 004 (doc/suspensions.md);
+// max(r - 0., 0.) is r exactly, so offset 0 keeps the plain DPD bit for bit.
 #include "config/features.hpp"
 #include "nonbonded/kernel.hpp"
 #include "utils/Vector.hpp"
 #include "utils/noise.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace Marble {
@@ -47,6 +52,7 @@ struct DPDPair {
   static constexpr Utils::RNGSalt salt = Utils::RNGSalt::dpd;
   struct Params {
     bool active = false;
+    double offset = 0.;
     DPDWeight radial;
 #ifdef TRANS_DPD
     DPDWeight trans;
@@ -82,10 +88,13 @@ struct DPDPair {
         f.push_back(x);
       }
 #endif
+      f.push_back(real<P>("offset", [](P const &p) { return p.offset; }, [](P &p, double x) { p.offset = x; }, 0., INFINITY));
       return f;
     }();
     return f;
   }
+  /** Where the weights are evaluated: the gap max(r - offset, 0). */
+  static double gap(P const &p, double r) { return std::max(r - p.offset, 0.); }
   static void finish([[maybe_unused]] P &p) {
 #ifdef TRANS_DPD
     p.trans.k = p.radial.k; // espressomd: one exponent k for both weights
@@ -102,9 +111,9 @@ struct DPDPair {
     if (!p.active)
       return 0.;
 #ifdef TRANS_DPD
-    return p.radial.r_cut > p.trans.r_cut ? p.radial.r_cut : p.trans.r_cut;
+    return (p.radial.r_cut > p.trans.r_cut ? p.radial.r_cut : p.trans.r_cut) + p.offset;
 #else
-    return p.radial.r_cut;
+    return p.radial.r_cut + p.offset;
 #endif
   }
   static void refresh(P &p, double kT, double dt) {
@@ -129,13 +138,14 @@ struct DPDPair {
     double const exi = e * xi;
     double const sq_m = (mfac == 1.) ? 1. : std::sqrt(mfac);
     Utils::Vector3d force{};
-    double const w = p.radial.weight(r);
+    double const x = gap(p, r);
+    double const w = p.radial.weight(x);
     if (w > 0.) {
       double const mag = -p.radial.gamma * mfac * w * w * ev + p.radial.pref_noise * sq_m * w * exi;
       force = mag * e;
     }
 #ifdef TRANS_DPD
-    double const wt = p.trans.weight(r);
+    double const wt = p.trans.weight(x);
     if (wt > 0. && p.trans.gamma > 0.) {
       // (I - P) applied to -g w^2 v + s w xi
       Utils::Vector3d const v_perp = vij - ev * e;

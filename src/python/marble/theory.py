@@ -210,3 +210,32 @@ def hydrodynamic_radius_from_D(D, eta, L=np.inf, D_err=None, kT=1.0):
         return diffusion_coefficient(eta, R_, L_, 0.0, kT)
 
     return _fit_1d(model, D, D_err, L, 0.0, hi, "hydrodynamic radius")
+
+
+# --- suspensions (doc/suspensions.md, reference.md section 7) ---------------
+
+def batchelor_viscosity(phi):
+    """Relative viscosity 1 + 2.5 phi + 6.2 phi^2 (Batchelor 1977, Brownian hard
+    spheres, dilute): 1.141, 1.312, 1.748 at phi = 0.05, 0.1, 0.2."""
+    phi = np.asarray(phi, dtype=float)
+    if np.any(phi < 0) or np.any(~np.isfinite(phi)):
+        raise ValueError(f"parameter 'phi' must be >= 0, got {phi}")
+    return _scalar(1.0 + 2.5 * phi + 6.2 * phi ** 2)
+
+
+def krieger_dougherty_viscosity(phi, phi_m=0.63, intrinsic=2.5):
+    """Relative viscosity (1 - phi/phi_m)^(-[eta] phi_m) (Krieger & Dougherty 1959):
+    1.139, 1.313, 1.825, 2.77, 4.89 at phi = 0.05, 0.1, 0.2, 0.3, 0.4 (phi_m = 0.63)."""
+    phi = np.asarray(phi, dtype=float)
+    phi_m = float(_pos("phi_m", phi_m))
+    if np.any(phi < 0) or np.any(phi >= phi_m) or np.any(~np.isfinite(phi)):
+        raise ValueError(f"parameter 'phi' must be in [0, phi_m = {phi_m}), got {phi}")
+    return _scalar((1.0 - phi / phi_m) ** (-intrinsic * phi_m))
+
+
+def carnahan_starling_contact(phi):
+    """Hard-sphere contact value g(2R+) = (1 - phi/2)/(1 - phi)^3 (1.758 at phi = 0.2)."""
+    phi = np.asarray(phi, dtype=float)
+    if np.any(phi < 0) or np.any(phi >= 1):
+        raise ValueError(f"parameter 'phi' must be in [0, 1), got {phi}")
+    return _scalar((1.0 - phi / 2.0) / (1.0 - phi) ** 3)

@@ -23,6 +23,7 @@ enum class RNGSalt : std::uint64_t {
   srd_at = 8,       // SRD Andersen velocities (seed, collision, particle id)
   srd_wall = 9,     // SRD stochastic boundary (seed, MD step, particle id)
   srd_init = 10,    // SRD initial positions/velocities and relocation
+  lubrication = 16, // suspensions (nonbonded/lubrication.hpp)
 };
 
 /** Four raw 64-bit words for counter @p step and keys. */

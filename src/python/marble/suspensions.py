@@ -1,0 +1,232 @@
+"""Core-modified DPD colloid suspensions (seed 004; doc/suspensions.md).
+
+Colloids are single DPD particles of radius R in a DPD solvent; every
+colloid interaction acts on the surface gap h = r - (a_i + a_j):
+
+- solvent-solvent: hat (a_ss = 25 kT/r_c) + DPD, cutoff r_c;
+- colloid-solvent: hat and DPD with offset R and the equal-volume surface
+  cutoff r'_c = (r_c^3 + R^3)^(1/3) - R;
+- colloid-colloid: contact force, squeeze lubrication (FDT-consistent noise),
+  optional Morse attraction, and DPD on the gap (cutoff r_c).
+
+    import marble, marble.suspensions as sus
+    s = marble.System(box_l=[12.0] * 3)
+    s.time_step = 0.001
+    info = sus.setup_suspension(s, phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=1)
+"""
+import math
+
+import numpy as np
+
+from .code_features import assert_features
+
+#: Random close packing of monodisperse spheres: no random placement above it.
+PHI_RCP = 0.64
+
+
+def equal_volume_cutoff(R, r_cut=1.0):
+    """Centre-centre colloid-solvent cutoff (r_c^3 + R^3)^(1/3): the shell
+    R < r < cutoff has the volume of a solvent bead's sphere of radius r_c (seed 004)."""
+    _positive("R", R, allow_zero=True)
+    _positive("r_cut", r_cut)
+    return (r_cut ** 3 + R ** 3) ** (1.0 / 3.0)
+
+
+def surface_cutoff(R, r_cut=1.0):
+    """The same cutoff measured from the colloid surface: (r_c^3 + R^3)^(1/3) - R."""
+    return equal_volume_cutoff(R, r_cut) - R
+
+
+def _hat_shell_integral(R, rc):
+    """int_R^{R+rc} (rc - (r - R))^2 r^2 dr (closed form)."""
+    c = R + rc
+    return c * c * rc ** 3 / 3.0 - c * rc ** 4 / 2.0 + rc ** 5 / 5.0
+
+
+def colloid_solvent_repulsion(R, a_ss=25.0, r_cut=1.0, rule="mean_field"):
+    """F_max of the colloid-solvent hat on the gap (cutoff surface_cutoff(R)).
+
+    rule="seed": seed 004's 25 kT / r'_c (a_ss / r'_c; 96 at R = 1, 683 at R = 3);
+    rule="mean_field" (default): the F_max for which a solvent bead's mean-field
+    interaction integral int U dV over the colloid's shell equals that over a
+    solvent bead's sphere, int U_ss dV = pi a_ss r_c^4 / 15 (doc/suspensions.md;
+    32.6 at R = 1, 95.5 at R = 2, 206 at R = 3 for a_ss = 25)."""
+    _positive("R", R, allow_zero=True)
+    rp = surface_cutoff(R, r_cut)
+    if rule == "seed":
+        return a_ss * r_cut / rp
+    if rule != "mean_field":
+        raise ValueError(f"parameter 'rule' must be 'mean_field' or 'seed', got {rule!r}")
+    return a_ss * (_hat_shell_integral(0.0, r_cut) / r_cut) / (_hat_shell_integral(R, rp) / rp)
+
+
+def stokes_einstein_D(R, eta, kT):
+    """D = kT / (6 pi eta R)."""
+    _positive("R", R)
+    _positive("eta", eta)
+    _positive("kT", kT)
+    return kT / (6.0 * math.pi * eta * R)
+
+
+def diffusion_time(R, eta, kT):
+    """tau_D = R^2 / D = 6 pi eta R^3 / kT (seed 004 writes "D = tau": they are not
+    the same quantity; 56.5 for R = 1, eta = 0.3, kT = 0.1)."""
+    return R * R / stokes_einstein_D(R, eta, kT)
+
+
+def _positive(name, x, allow_zero=False):
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter '{name}' must be a number, got {x!r}") from None
+    if not math.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
+        raise ValueError(f"parameter '{name}' must be a finite number {'>=' if allow_zero else '>'} 0, "
+                         f"got {x}")
+    return x
+
+
+def _min_image(d, L):
+    return d - L * np.round(d / L)
+
+
+def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000):
+    """Random sequential placement of n spheres (no two closer than 2R + min_gap)."""
+    pos = np.empty((0, 3))
+    tries = 0
+    while len(pos) < n:
+        tries += 1
+        if tries > max_tries:
+            raise ValueError(
+                f"parameter 'phi': could place only {len(pos)} of {n} colloids without overlap by "
+                "random sequential addition (jams near phi = 0.38); place them yourself "
+                "(positions=...) or compress a dilute suspension")
+        x = rng.uniform(0, 1, size=3) * L
+        if len(pos) and np.min(np.linalg.norm(_min_image(pos - x, L), axis=1)) < 2 * radius + min_gap:
+            continue
+        pos = np.vstack([pos, x])
+    return pos
+
+
+def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.3, seed=None,
+                     r_cut=1.0, a_ss=None, a_cs=None, a_cs_rule="mean_field",
+                     f_contact=None, delta=0.001, lubrication=True, h_cut=None, h_min=0.001,
+                     log_term="off", morse=None, colloid_dpd=True,
+                     solvent_type=0, colloid_type=1, colloid_mass=None, positions=None):
+    """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
+
+    - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
+      overlap (or at ``positions``), mass ``density (4/3) pi R^3`` (seed 004).
+    - Solvent: ``density`` beads per unit volume outside the colloid cores
+      (beads drawn uniformly over the box, those inside a core removed).
+    - Interactions (module doc): a_ss = 25 kT/r_c, the colloid-solvent hat
+      F_max from ``colloid_solvent_repulsion(R, a_ss, r_c, a_cs_rule)`` unless
+      ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
+      (eta, h_cut = r_c, h_min, log_term), ``morse`` a dict of the Morse kernel's
+      eps, alpha, rmin, cutoff (offset 2R added), DPD with ``gamma`` on every pair.
+    - The DPD thermostat at ``kT`` with ``seed``.
+
+    The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
+    equilibrate a few time units before measuring (doc/suspensions.md).
+
+    Every parameter is checked before anything changes (ValueError naming
+    it). Returns a dict of what was set (counts, cutoffs, parameters, ids).
+    Colloid-colloid pairs go through the main Verlet list (range 2R + h_cut):
+    a second cell grid for colloids is not there yet (doc/suspensions.md).
+    """
+    assert_features("DPD", "HAT", "CONTACT", "MASS")
+    if lubrication:
+        assert_features("LUBRICATION")
+    if morse:
+        assert_features("MORSE")
+    phi = _positive("phi", phi)
+    if phi > PHI_RCP:
+        raise ValueError(f"parameter 'phi' must be <= {PHI_RCP} (random close packing), got {phi}")
+    R = _positive("radius", radius)
+    density = _positive("density", density)
+    kT = _positive("kT", kT, allow_zero=True)
+    gamma = _positive("gamma", gamma, allow_zero=True)
+    r_cut = _positive("r_cut", r_cut)
+    delta = _positive("delta", delta)
+    h_min = _positive("h_min", h_min)
+    h_cut = r_cut if h_cut is None else _positive("h_cut", h_cut)
+    if lubrication:
+        if eta is None:
+            raise ValueError("parameter 'eta' (the solvent viscosity) is required for lubrication")
+        eta = _positive("eta", eta)
+        if not h_min < h_cut:
+            raise ValueError(f"parameter 'h_min' must be below h_cut = {h_cut}, got {h_min}")
+    if log_term not in ("off", "on"):
+        raise ValueError(f"parameter 'log_term' must be 'off' or 'on', got {log_term!r}")
+    a_ss = 25.0 * kT / r_cut if a_ss is None else _positive("a_ss", a_ss, allow_zero=True)
+    if a_cs is None:
+        a_cs = colloid_solvent_repulsion(R, a_ss, r_cut, a_cs_rule)
+    a_cs = _positive("a_cs", a_cs, allow_zero=True)
+    f_contact = 1e4 * kT / r_cut if f_contact is None else _positive("f_contact", f_contact)
+    if seed is None or int(seed) != seed or seed < 0:
+        raise ValueError(f"parameter 'seed' must be an integer >= 0, got {seed!r}")
+    if solvent_type == colloid_type:
+        raise ValueError("parameters 'solvent_type' and 'colloid_type' must differ")
+    if len(system.part.all()):
+        raise ValueError("setup_suspension needs an empty system (it places all particles)")
+    L = np.asarray(system.box_l, float)
+    V = float(np.prod(L))
+    if np.min(L) <= 2 * (2 * R + max(h_cut, r_cut, delta)):
+        raise ValueError(f"the box (smallest edge {np.min(L)}) must exceed twice the colloid pair "
+                         f"range 2R + cutoff = {2 * R + max(h_cut, r_cut)}")
+    rng = np.random.default_rng(int(seed))
+    v_col = 4.0 / 3.0 * math.pi * R ** 3
+    if positions is not None:
+        cpos = np.asarray(positions, float)
+        if cpos.ndim != 2 or cpos.shape[1] != 3 or not np.all(np.isfinite(cpos)):
+            raise ValueError("parameter 'positions' must be an (N, 3) array of finite numbers")
+        for i in range(len(cpos)):
+            d = np.linalg.norm(_min_image(cpos[i + 1:] - cpos[i], L), axis=1)
+            if np.any(d < 2 * R):
+                j = i + 1 + int(np.argmin(d))
+                raise ValueError(f"parameter 'positions': colloids {i} and {j} overlap "
+                                 f"(distance {d.min():.4g} < 2R = {2 * R})")
+        n_col = len(cpos)
+    else:
+        n_col = int(round(phi * V / v_col))
+        if n_col < 1:
+            raise ValueError(f"parameter 'phi': {phi} gives no colloid of radius {R} in volume {V:.4g}")
+        cpos = place_colloids(L, n_col, R, rng, min_gap=delta)
+    m_col = density * v_col if colloid_mass is None else _positive("colloid_mass", colloid_mass)
+    # solvent outside the cores
+    n_try = int(rng.poisson(density * V))
+    spos = rng.uniform(0, 1, size=(n_try, 3)) * L
+    keep = np.ones(n_try, bool)
+    for c in cpos:
+        keep &= np.linalg.norm(_min_image(spos - c, L), axis=1) >= R
+    spos = spos[keep]
+
+    # everything checked: now change the system
+    sigma_v = math.sqrt(kT) if kT > 0 else 0.0
+    col = system.part.add(pos=cpos, type=[colloid_type] * n_col, mass=[m_col] * n_col,
+                          v=rng.normal(size=(n_col, 3)) * sigma_v / math.sqrt(m_col))
+    sol = system.part.add(pos=spos, type=[solvent_type] * len(spos),
+                          v=rng.normal(size=(len(spos), 3)) * sigma_v)
+    s, c = solvent_type, colloid_type
+    rp = surface_cutoff(R, r_cut)
+    ia = system.non_bonded_inter
+    if a_ss > 0:
+        ia[s, s].hat.set_params(F_max=a_ss, cutoff=r_cut)
+    if a_cs > 0:
+        ia[c, s].hat.set_params(F_max=a_cs, cutoff=rp, offset=R)
+    if gamma > 0:
+        ia[s, s].dpd.set_params(weight_function=1, gamma=gamma, r_cut=r_cut)
+        ia[c, s].dpd.set_params(weight_function=1, gamma=gamma, r_cut=rp, offset=R)
+        if colloid_dpd:
+            ia[c, c].dpd.set_params(weight_function=1, gamma=gamma, r_cut=r_cut, offset=2 * R)
+    ia[c, c].contact.set_params(f_contact=f_contact, delta=delta, offset=2 * R)
+    if lubrication:
+        ia[c, c].lubrication.set_params(eta=eta, a1=R, a2=R, h_cut=h_cut, h_min=h_min,
+                                        log_term=log_term)
+    if morse:
+        ia[c, c].morse.set_params(**dict(morse, offset=2 * R))
+    system.thermostat.set_dpd(kT=kT, seed=int(seed))
+    return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_col / V, radius=R,
+                colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
+                cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
+                f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
+                diffusion_time=diffusion_time(R, eta, kT) if (eta and kT > 0) else math.inf)
