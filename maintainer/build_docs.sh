@@ -20,5 +20,7 @@ if ! /usr/bin/python3 -c "import sphinx, myst_parser, nbsphinx" 2>/dev/null || !
   exit 77
 fi
 export PYTHONPATH="$build/src/python${PYTHONPATH:+:$PYTHONPATH}"
+# a full build every time: an incremental one reports warnings only for changed pages
+rm -rf "$build/doc-doctrees"
 exec /usr/bin/python3 -m sphinx -W --keep-going -q -b html -d "$build/doc-doctrees" \
   "$root/doc" "$out"

@@ -1,5 +1,7 @@
 """Stochastic rotation dynamics (SRD / MPCD) solvent and stick colloids (doc/srd.md).
 
+::
+
     import marble, marble.srd
     system = marble.System(box_l=[16] * 3, time_step=0.025)
     system.srd = marble.srd.SRDFluid(types=[0], cell_size=1.0, tau=0.1, angle=90, kT=1.0,
