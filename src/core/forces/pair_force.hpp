@@ -12,8 +12,6 @@
 
 namespace Marble {
 
-inline constexpr unsigned all_pair_kernels = (1u << n_pair_loop_kernels) - 1u;
-
 /** Mask bits of the kernels with role @p R. */
 template <KernelRole R> constexpr unsigned pair_kernels_with_role() {
   unsigned m = 0;

@@ -62,12 +62,4 @@ private:
   std::vector<Pair> m_pairs;
 };
 
-/** Is @p t the partner (solvent) type of an active marble coupling? */
-inline bool is_marble_solvent_type(InteractionTable const &ia, int t) {
-  for (int c = 0; c < ia.n_types(); ++c)
-    if (t < ia.n_types() && ia.get(c, t).get<MarbleSurface>().active)
-      return true;
-  return false;
-}
-
 } // namespace Marble

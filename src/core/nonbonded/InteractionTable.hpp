@@ -34,7 +34,6 @@ public:
     refresh();
   }
   bool is_large(int t) const { return t < static_cast<int>(m_large.size()) && m_large[t]; }
-  std::vector<char> const &large_types() const { return m_large; }
   IAParams &get(int i, int j) { return m_p[i * m_n + j]; }
   IAParams const &get(int i, int j) const { return m_p[i * m_n + j]; }
 
