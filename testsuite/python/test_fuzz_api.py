@@ -400,6 +400,7 @@ if SEED:
 TestApiFuzz = ApiMachine.TestCase
 
 
+@pytest.mark.skipif(not marble.has_features("HAT", "DPD"), reason="needs HAT and DPD")
 def test_reset_clears_types_without_particles():
     """Found by the fuzzer: reset() used to clear only the types of existing
     particles; the kernel registry's reset clears the whole table."""
@@ -412,6 +413,7 @@ def test_reset_clears_types_without_particles():
     assert s.non_bonded_inter[2, 2].dpd.get_params() == {}
 
 
+@pytest.mark.skipif(not marble.has_features("LENNARD_JONES"), reason="needs LENNARD_JONES")
 def test_lj_auto_shift_overflow():
     """Found by the fuzzer (seed 7): shift="auto" with (sigma/cutoff)^12
     overflowing gave a NaN shift; a keyword value that is not finite is now a
