@@ -96,7 +96,7 @@ def run_case(launcher, case, steps):
     return json.loads(p.stdout.strip().splitlines()[-1])["rate"]
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--baseline", default="HEAD~1", help="git ref to compare with (default HEAD~1)")
     ap.add_argument("--baseline-build", help="an existing build dir of the baseline (skips building)")
@@ -104,8 +104,9 @@ def main():
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--out-name", default="compare_builds.json", help=argparse.SUPPRESS)
     ap.add_argument("--worker", help=argparse.SUPPRESS)
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     if args.worker:
         return worker(args.worker, args.steps)
     current = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
@@ -146,8 +147,9 @@ def main():
             out[f"marble_overhead_{w}"] = ov
             print(f"marble overhead ({w}): x{ov:.3f} time per particle-step of the bare solvent")
     os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "compare_builds.json"), "w") as f:
+    with open(os.path.join(args.out, args.out_name), "w") as f:
         json.dump(out, f, indent=1)
+    return out
 
 
 if __name__ == "__main__":

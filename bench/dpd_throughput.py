@@ -2,6 +2,15 @@
 against LAMMPS on the same machine (one core).
 
 Run:  build/pymarble bench/dpd_throughput.py [--quick] [--no-lammps] [--out DIR]
+      build/pymarble bench/dpd_throughput.py --baseline [REF] [--baseline-build DIR] [--rounds N]
+
+With --baseline the bench instead builds the git ref REF (default: BASELINE_REF,
+the last commit before the speed work of issue E) in a temporary directory and
+runs it interleaved with this build on the paper's solvent (rho = 3, a = 0,
+gamma = 5, dt = 0.01, N = 24 000) and Groot-Warren water (a = 25, gamma = 4.5),
+one fresh process per round and build (bench/compare_builds.py does the work);
+it prints the CPU-time medians, their ratio, and the issue's goal (>= 2.5x).
+Writes bench/results/dpd_throughput_baseline.json.
 
 Writes bench/results/dpd_throughput.json and .png. Every figure is a median of
 >= 3 timed rounds; rounds of the codes compared are interleaved (A B A B ...)
@@ -216,12 +225,41 @@ def tune_skin(case, dt, skins, L, rounds, steps):
     return best, {str(sk): r["median"] for sk, r in res.items()}
 
 
+# The last commit of main before the speed work (issue E): --baseline's default.
+BASELINE_REF = "6171f5e"
+BASELINE_GOAL = 2.5
+
+
+def run_baseline(args):
+    """Interleaved current-vs-REF comparison of the two DPD fluids."""
+    import compare_builds
+    argv = ["--baseline", args.baseline, "--cases", "dpd_a0_g5,dpd_a25_g4.5",
+            "--rounds", str(args.rounds), "--steps", str(args.steps), "--out", args.out,
+            "--out-name", "dpd_throughput_baseline.json"]
+    if args.baseline_build:
+        argv += ["--baseline-build", args.baseline_build]
+    out = compare_builds.main(argv)
+    for c, r in out["cases"].items():
+        met = r["ratio"] >= BASELINE_GOAL
+
+        log(f"{c}: x{r['ratio']:.2f} against {args.baseline} per CPU-second "
+            f"(goal >= {BASELINE_GOAL}: {'met' if met else 'not met'})")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="short run: L=20 only, fixed skin, 3 rounds")
     ap.add_argument("--no-lammps", action="store_true", help="do not run LAMMPS")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--baseline", nargs="?", const=BASELINE_REF, default=None,
+                    help=f"compare with a build of this git ref instead (default {BASELINE_REF})")
+    ap.add_argument("--baseline-build", help="an existing build dir of the baseline (skips building it)")
+    ap.add_argument("--rounds", type=int, default=7, help="rounds of the --baseline comparison")
+    ap.add_argument("--steps", type=int, default=200, help="steps per round of the --baseline comparison")
     args = ap.parse_args()
+    if args.baseline is not None:
+        return run_baseline(args)
     quick = args.quick
     rounds = 3 if quick else 5
     os.makedirs(args.out, exist_ok=True)
