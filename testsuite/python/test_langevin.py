@@ -98,32 +98,32 @@ def discrete_vacf(a, k):
 
 
 def check_decay(x, rate, lags, label):
-    per_lag = {}
-    for lag in lags:
-        prod = (x[lag:] * x[:-lag]).sum(axis=2).mean(axis=0)   # per particle
-        c0 = (x * x).sum(axis=2).mean(axis=0)
+    blocks = np.array_split(np.arange(x.shape[1]), N_BLOCKS)
+    c0 = (x * x).sum(axis=2).mean(axis=0)                          # per particle
+    ts = np.array([lag * EVERY * DT for lag in lags])
+    ratios = []                                                    # block, lag
+    for lag, t in zip(lags, ts):
+        prod = (x[lag:] * x[:-lag]).sum(axis=2).mean(axis=0)       # per particle
         # ratio estimator per block of particles
-        blocks = np.array_split(np.arange(x.shape[1]), N_BLOCKS)
         r = np.array([prod[b].mean() / c0[b].mean() for b in blocks])
+        ratios.append(r)
         mean, err = r.mean(), r.std(ddof=1) / np.sqrt(N_BLOCKS)
-        t = lag * EVERY * DT
         exact = np.exp(-rate * t)
         scheme = discrete_vacf(rate * DT, lag * EVERY)
-        per_lag[t] = (mean, err)
         print(f"{label}: t = {t:.2f}: C/C0 = {mean:.4f} +- {err:.4f}, exp = {exact:.4f}, "
               f"scheme = {scheme:.4f}")
         assert abs(mean - exact) < 3 * err + abs(scheme - exact), (label, t, mean, err, exact)
-    # decay rate from a weighted fit of log C on t (reported; checked within 3 sigma)
-    ts = np.array(list(per_lag))
-    ms = np.array([per_lag[t][0] for t in ts])
-    es = np.array([per_lag[t][1] for t in ts]) / ms
-    wts = 1 / es**2
+    ratios = np.array(ratios).T
+
+    # decay rate: least squares of log C = -rate t per block (the lags of one
+    # block are correlated, so the error comes from the spread over blocks)
     def fit(c):
-        return -np.sum(wts * ts * np.log(c)) / np.sum(wts * ts * ts)
-    fit_rate, fit_err = fit(ms), 1 / np.sqrt(np.sum(wts * ts * ts))
+        return -np.sum(ts * np.log(c), axis=-1) / np.sum(ts * ts)
+    rates = fit(ratios)
+    fit_rate, fit_err = rates.mean(), rates.std(ddof=1) / np.sqrt(N_BLOCKS)
     # the same fit of the scheme's exact values: its O(gamma dt / m) offset
-    offset = abs(fit(np.array([discrete_vacf(rate * DT, round(t / DT)) for t in ts])) - rate)
-    print(f"{label}: fitted decay rate {fit_rate:.4f} +- {fit_err:.4f} (theory {rate}, "
+    offset = abs(fit(np.array([discrete_vacf(rate * DT, lag * EVERY) for lag in lags])) - rate)
+    print(f"{label}: fitted decay rate {fit_rate:.4f} +- {fit_err:.4f} (theory {rate:.4f}, "
           f"scheme offset {offset:.4f})")
     assert abs(fit_rate - rate) < 3 * fit_err + offset
 
