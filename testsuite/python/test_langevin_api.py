@@ -215,3 +215,36 @@ def test_checkpoint_restart_bit_exact(mode):
     restored.integrator.run(20)
     np.testing.assert_array_equal(restored.part.all().pos, s.part.all().pos)
     np.testing.assert_array_equal(restored.part.all().v, s.part.all().v)
+
+
+def test_scheme_at_large_gamma_dt():
+    """The scheme's own statistics at a = gamma dt / m = 0.5 (doc/thermostats.md):
+    on-step velocities have exactly <v_d^2> = kT / m, and the velocity
+    autocorrelation at lag k steps is (1 - a/2)(1 - a)^(k-1) (0.75, 0.375,
+    0.1875), far from exp(-a k); ideal gas, error from 20 blocks of particles."""
+    n, kT, a, dt = 2000, 1.3, 0.5, 0.01
+    s = make(n=n, L=30.0, dt=dt, seed=3)
+    s.part.all().v = np.random.default_rng(4).normal(scale=np.sqrt(kT), size=(n, 3))
+    s.thermostat.set_langevin(kT=kT, gamma=a / dt, seed=8)
+    s.integrator.run(50)
+    parts = s.part.all()
+    v = []
+    for _ in range(400):
+        s.integrator.run(1)
+        v.append(parts.v)
+    v = np.array(v)                                    # step, particle, 3
+    blocks = np.array_split(np.arange(n), 20)
+
+    def stat(per_particle):
+        b = np.array([per_particle[i].mean() for i in blocks])
+        return b.mean(), b.std(ddof=1) / np.sqrt(len(blocks))
+    m, e = stat((v**2).mean(axis=(0, 2)))
+    assert abs(m - kT) < 3 * e, (m, e)
+    c0 = (v * v).sum(axis=2).mean(axis=0)
+    for k in (1, 2, 3):
+        ck = (v[k:] * v[:-k]).sum(axis=2).mean(axis=0)
+        r = np.array([ck[i].mean() / c0[i].mean() for i in blocks])
+        m, e = r.mean(), r.std(ddof=1) / np.sqrt(len(blocks))
+        expect = (1 - a / 2) * (1 - a) ** (k - 1)
+        assert abs(m - expect) < 3 * e, (k, m, e, expect)
+        assert abs(m - np.exp(-a * k)) > 5 * e  # the continuum value is clearly not it
