@@ -1,6 +1,6 @@
 // Script interface of the integrators (marble.integrate): velocity Verlet,
 // steepest descent, the DPD integrators (Shardlow S1, DPD-VV; doc/stability.md)
-// and run().
+// Brownian dynamics and run().
 #include "script_interface/bindings.hpp"
 #include "script_interface/params.hpp"
 
@@ -64,6 +64,7 @@ void bind_integrate(py::class_<System> &cls) {
     throw Utils::FeaturesError("DPD", "integrator.set_dpd_vv");
 #endif
   });
+  cls.def("set_brownian_dynamics", &System::set_integrator_bd);
   cls.def("integrator_name", [](System &s) {
     switch (s.integrator()) {
     case IntegratorKind::VelocityVerlet:
@@ -74,6 +75,8 @@ void bind_integrate(py::class_<System> &cls) {
       return "Shardlow";
     case IntegratorKind::DPDVV:
       return "DPDVV";
+    case IntegratorKind::BrownianDynamics:
+      return "BrownianDynamics";
     }
     return "?";
   });

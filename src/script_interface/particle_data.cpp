@@ -62,6 +62,14 @@ std::map<std::string, PropInfo> const &properties() {
       {"ext_force", {3, true, "EXTERNAL_FORCE", false}},
       {"fix", {3, true, "EXTERNAL_FORCE", false}},
 #endif
+      // Langevin/Brownian friction of the particle (ESPResSo: THERMOSTAT_PER_PARTICLE,
+      // always compiled in here); < 0 (the default, -1) means the thermostat's gamma
+      {"gamma", {1, true, nullptr, true}},
+#ifdef ROTATION
+      {"gamma_rot", {1, true, "ROTATION", true}},
+#else
+      {"gamma_rot", {1, true, "ROTATION", false}},
+#endif
 #if defined(EXTERNAL_FORCE) && defined(ROTATION)
       {"ext_torque", {3, true, "EXTERNAL_FORCE and ROTATION", true}},
 #else
@@ -155,6 +163,12 @@ void apply(System const &sys, ParticleProperties &p, std::string const &name, do
     p.rinertia = row[0];
   } else if (name == "omega_lab" || name == "omega_body") {
     p.omega = vec(name.c_str());
+  } else if (name == "gamma" || name == "gamma_rot") {
+    double const g = row[0];
+    if (!(std::isfinite(g) && (g >= 0. || g == -1.)))
+      value_error("particle property '" + name + "' must be a finite number >= 0, or -1 for the "
+                  "thermostat's global value, got " + Utils::to_str(g));
+    (name == "gamma" ? p.gamma : p.gamma_rot) = g;
   } else if (name == "ext_force") {
     p.ext_force = vec("ext_force");
   } else if (name == "ext_torque") {
@@ -316,6 +330,8 @@ void bind_particle_data(py::class_<System> &cls) {
       } else if (name == "v") put(ps.v[i]);
       else if (name == "f") put(ps.f[i]);
       else if (name == "mass") row[0] = ps.get_mass(i);
+      else if (name == "gamma") row[0] = ps.gamma[i];
+      else if (name == "gamma_rot") row[0] = ps.gamma_rot[i];
 #ifdef ROTATION
       else if (name == "rotation") row[0] = ps.rotation[i];
       else if (name == "rinertia") row[0] = ps.rinertia[i];
@@ -361,7 +377,8 @@ void bind_particle_data(py::class_<System> &cls) {
         recs[k] = ps.get(ids[k]); // else: on another rank; the row is still validated
       apply(s, recs[k], name, rows.data(k, 0));
     }
-    bool const keeps_lists = name == "ext_force" || name == "ext_torque" || name == "fix";
+    bool const keeps_lists = name == "ext_force" || name == "ext_torque" || name == "fix" ||
+                             name == "gamma" || name == "gamma_rot";
     if (!keeps_lists)
       ps.clear_ghosts();
     for (std::size_t k = 0; k < ids.size(); ++k) {
@@ -381,6 +398,8 @@ void bind_particle_data(py::class_<System> &cls) {
         ps.pos[i] = x;
         ps.image[i] = img;
       } else if (name == "v") ps.v[i] = p.v;
+      else if (name == "gamma") ps.gamma[i] = p.gamma;
+      else if (name == "gamma_rot") ps.gamma_rot[i] = p.gamma_rot;
 #ifdef MASS
       else if (name == "mass") ps.mass[i] = p.mass;
 #endif
@@ -405,6 +424,10 @@ void bind_particle_data(py::class_<System> &cls) {
       }
 #endif
 #endif
+    }
+    if (name == "gamma" || name == "gamma_rot") {
+      s.on_change(); // the thermostat forces of the last step used the old value
+      return;
     }
     if (keeps_lists)
       return; // no particle moved and no pair force changed

@@ -175,6 +175,55 @@ def scene_temperature():
     return s, dict(kT=np.array(kT))
 
 
+def _wca_gas(L=7.0, seed=6):
+    """A dilute WCA gas crossing the domain boundaries (implicit solvent)."""
+    rng = np.random.default_rng(seed)
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.005
+    s.cell_system.skin = 0.4
+    g = np.arange(0, L, L / 5)
+    pos = np.array(np.meshgrid(g, g, g)).reshape(3, -1).T + 0.1
+    n = len(pos)
+    extra = {}
+    if marble.has_features("ROTATION"):
+        extra["rotation"] = np.arange(n) % 2 == 0
+    s.part.add(pos=pos, v=rng.normal(size=(n, 3)), **extra)
+    s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2**(1 / 6),
+                                                      shift="auto")
+    return s
+
+
+def scene_langevin():
+    """Langevin (per-particle gamma on a subset, rotation) + DPD: 1 vs 2 ranks."""
+    s = _wca_gas()
+    parts = s.part.all()
+    parts.gamma = np.where(np.arange(len(parts)) % 3 == 0, 2.5, -1.0)
+    s.thermostat.set_langevin(kT=1.3, gamma=0.7, gamma_rotation=0.9, seed=17)
+    if marble.has_features("DPD"):
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=1.0, k=1.0, r_cut=1.2)
+        s.thermostat.set_dpd(kT=1.3, seed=3)
+    s.integrator.run(150)
+    parts = s.part.all()
+    out = dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
+    if marble.has_features("ROTATION"):
+        out["omega"] = parts.omega_lab
+    return s, out
+
+
+def scene_brownian():
+    """Brownian dynamics of the WCA gas: 1 vs 2 ranks."""
+    s = _wca_gas(seed=7)
+    s.time_step = 0.001
+    s.integrator.set_brownian_dynamics()
+    s.thermostat.set_brownian(kT=1.0, gamma=2.0, seed=23)
+    s.integrator.run(150)
+    parts = s.part.all()
+    out = dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
+    if marble.has_features("ROTATION"):
+        out["omega"] = parts.omega_lab
+    return s, out
+
+
 if __name__ == "__main__":
     name, path = sys.argv[1], sys.argv[2]
     system, data = globals()["scene_" + name]()

@@ -272,15 +272,15 @@ def test_steepest_descent_parameters():
 
 
 def test_older_format_version_refused():
-    """A core blob of format version 1 (before the kernel registry wrote the
-    interactions field by field) is refused with a message naming both
-    versions; nothing changes."""
+    """A core blob of an older format version (2: before the Langevin/Brownian
+    thermostats and per-particle gamma were stored) is refused with a message
+    naming both versions; nothing changes."""
     s, _, _ = make_scene("vv")
     blob = bytearray(s._core.get_checkpoint_state())
     before = bytes(blob)
     version_at = 8  # after the 8-byte magic
-    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 2
-    blob[version_at:version_at + 4] = (1).to_bytes(4, "little")
-    with pytest.raises(RuntimeError, match="format version 1, this build reads version 2"):
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 3
+    blob[version_at:version_at + 4] = (2).to_bytes(4, "little")
+    with pytest.raises(RuntimeError, match="format version 2, this build reads version 3"):
         s._core.set_checkpoint_state(bytes(blob))
     assert s._core.get_checkpoint_state() == before

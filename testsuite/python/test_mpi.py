@@ -190,3 +190,15 @@ def test_temperature_statistically_equal():
     assert abs(means[0] - means[1]) < 4 * np.hypot(*errs) + 1e-4
     for m, e in zip(means, errs):
         assert abs(m - 1.0) < 4 * e + 0.02  # VV at dt = 0.01: kT ~ 1.007
+
+
+@needs("LENNARD_JONES")
+@pytest.mark.parametrize("scene", ["langevin", "brownian"])
+def test_langevin_and_brownian_1_vs_2_ranks(scene):
+    """The Langevin / Brownian noise is keyed by (seed, step, particle id): the
+    same trajectory on 1 and 2 ranks (to round-off of the force sums)."""
+    one, two = run(scene, 1), run(scene, 2)
+    assert int(two["ranks"]) == 2
+    assert_same_trajectory(one, two)
+    if "omega" in one:
+        np.testing.assert_allclose(two["omega"], one["omega"], rtol=0, atol=1e-9)

@@ -6,6 +6,7 @@
 #include "forces/pair_force.hpp"
 #include "forces/pair_traversal.hpp"
 #include "system/System.hpp"
+#include "thermostats/langevin.hpp"
 #include "utils/errors.hpp"
 
 #include <array>
@@ -74,6 +75,8 @@ void System::compute_forces(bool with_thermostat) {
   loops[mask](m_ps, m_cells.pairs(), m_ia, th);
   add_extra_forces(with_thermostat); // colloid pairs, constraints
   m_cells.reduce_ghost_forces(m_ps);
+  if (with_thermostat && m_thermo.langevin.active) // single-particle Langevin friction + noise
+    add_langevin_forces(m_ps, m_thermo.langevin, m_time_step);
 #ifdef EXTERNAL_FORCE
   for (int i = 0; i < m_ps.n_local(); ++i) {
     m_ps.f[i] += m_ps.ext_force[i];

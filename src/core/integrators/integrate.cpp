@@ -4,6 +4,7 @@
 #include "integrators/stability.hpp"
 #include "integrators/dpd_integrators.hpp"
 #include "system/System.hpp"
+#include "thermostats/langevin.hpp"
 #include "utils/errors.hpp"
 #ifdef SRD
 #include "srd/Fluid.hpp" // SRD
@@ -110,12 +111,60 @@ void System::drift_checked() {
   }
 }
 
+void System::check_thermostats_before_run() const {
+  auto const &th = m_thermo;
+#ifdef DPD
+  bool const dpd_on = th.dpd.active;
+#else
+  bool const dpd_on = false;
+#endif
+  if (m_integrator == IntegratorKind::BrownianDynamics) {
+    if (!th.brownian.active)
+      throw Utils::RuntimeError(
+          "The BD integrator requires the BD thermostat: call "
+          "system.thermostat.set_brownian(kT=..., gamma=..., seed=...) before running");
+    if (th.langevin.active || dpd_on)
+      throw Utils::RuntimeError(
+          std::string("The BD integrator cannot be combined with the ") +
+          (dpd_on ? "DPD" : "Langevin") +
+          " thermostat (Brownian dynamics has no velocities to damp; its solvent is implicit): "
+          "switch it off (thermostat.turn_off() then set_brownian(...)) or use a velocity "
+          "Verlet integrator");
+#ifdef SRD
+    if (srd)
+      throw Utils::RuntimeError("The BD integrator cannot be combined with an SRD solvent: "
+                                "use integrator.set_vv()");
+#endif
+    return;
+  }
+  if (th.brownian.active)
+    throw Utils::RuntimeError(
+        "The Brownian thermostat works only with integrator.set_brownian_dynamics(); with a "
+        "velocity Verlet integrator use thermostat.set_langevin(...) (or turn the Brownian "
+        "thermostat off with thermostat.turn_off())");
+  if (th.langevin.active && m_time_step > 0.) {
+    int who = -1;
+    double const a = m_comm.max(langevin_max_friction(m_ps, th.langevin, m_time_step, who));
+    if (a >= 2.) {
+      who = m_comm.max(langevin_max_friction(m_ps, th.langevin, m_time_step, who) == a ? who : -1);
+      throw Utils::RuntimeError(
+          "cannot integrate: the Langevin friction gamma * time_step / mass (or gamma_rotation * "
+          "time_step / rinertia) of particle " + std::to_string(who) + " is " + Utils::to_str(a) +
+          ", >= 2, where velocity Verlet with explicit friction is unstable; reduce time_step "
+          "below " + Utils::to_str(m_time_step / a) + " or gamma");
+    }
+  }
+}
+
 int System::run(int n_steps, bool recalc_forces) {
   check_scene_before_run();
   if (m_integrator == IntegratorKind::SteepestDescent)
     return run_sd(n_steps);
+  check_thermostats_before_run();
   if (recalc_forces)
     m_forces_valid = false;
+  if (m_integrator == IntegratorKind::BrownianDynamics)
+    return run_bd(n_steps);
   if (n_steps > 0)
     check_stability_before_run(*this);
 #ifdef SRD
@@ -149,6 +198,7 @@ int System::run_md(int n_steps) {
 #ifdef DPD
     ++m_thermo.dpd.philox_counter;
 #endif
+    ++m_thermo.langevin.philox_counter;
     compute_forces(true);
     try {
       check_forces_finite();

@@ -198,6 +198,8 @@ template <typename A, typename P> void thermostat_fields([[maybe_unused]] A &a, 
 #ifdef DPD
   a(t.dpd.active, t.dpd.seeded, t.dpd.kT, t.dpd.seed, t.dpd.philox_counter);
 #endif
+  for (auto *sp : {&t.langevin, &t.brownian})
+    a(sp->active, sp->seeded, sp->kT, sp->gamma, sp->gamma_rotation, sp->seed, sp->philox_counter);
 }
 template <typename A, typename P> void wall_fields(A &a, P &w) {
   a(w.normal, w.dist, w.type, w.velocity, w.id, w.total_force, w.energy);
@@ -215,6 +217,7 @@ struct ParticleBlock {
   std::vector<Utils::Vector3i> image;
   std::vector<Utils::Vector3d> pos_at_rebuild, ext_force, ext_torque;
   std::vector<std::uint8_t> fix;
+  std::vector<double> gamma, gamma_rot;
 };
 
 } // namespace
@@ -290,7 +293,7 @@ struct CheckpointAccess {
     if (g.n_types < 0 || g.n_types > InteractionTable::max_type || g.ia.size() != square(g.n_types) ||
         g.large.size() != static_cast<std::size_t>(g.n_types))
       corrupt("inconsistent interaction table");
-    if (g.integrator < 0 || g.integrator > static_cast<int>(IntegratorKind::DPDVV))
+    if (g.integrator < 0 || g.integrator > static_cast<int>(IntegratorKind::BrownianDynamics))
       corrupt("unknown integrator");
     for (int d = 0; d < 3; ++d)
       if (!(g.box.length()[d] > 0.))
@@ -324,6 +327,8 @@ struct CheckpointAccess {
     o.head(ps.ext_torque, n);
     o.head(ps.fix, n);
 #endif
+    o.head(ps.gamma, n);
+    o.head(ps.gamma_rot, n);
     return o.buf;
   }
 
@@ -358,6 +363,9 @@ struct CheckpointAccess {
     b.fix = in.vec<std::uint8_t>();
     ok = ok && b.ext_force.size() == n && b.ext_torque.size() == n && b.fix.size() == n;
 #endif
+    b.gamma = in.vec<double>();
+    b.gamma_rot = in.vec<double>();
+    ok = ok && b.gamma.size() == n && b.gamma_rot.size() == n;
     if (!ok || !in.done())
       corrupt("inconsistent particle block");
     std::vector<int> ids = b.id;
@@ -408,6 +416,8 @@ struct CheckpointAccess {
         take(out.ext_force, b.ext_force);
         take(out.ext_torque, b.ext_torque);
         take(out.fix, b.fix);
+        take(out.gamma, b.gamma);
+        take(out.gamma_rot, b.gamma_rot);
       }
     }
     std::sort(all_ids.begin(), all_ids.end());
@@ -530,6 +540,8 @@ struct CheckpointAccess {
       p.ext_torque = b.ext_torque[k];
       p.fix = b.fix[k];
 #endif
+      p.gamma = b.gamma[k];
+      p.gamma_rot = b.gamma_rot[k];
       ps.add(p);
       ps.f[k] = b.f[k];
 #ifdef ROTATION

@@ -28,7 +28,7 @@ struct CheckpointAccess;
 
 namespace Checkpoint {
 
-inline constexpr std::uint32_t format_version = 2; // 2: interactions by kernel field lists
+inline constexpr std::uint32_t format_version = 3; // 2: interactions by kernel field lists; 3: Langevin/Brownian thermostats, per-particle gamma
 
 /** CRC-32 (IEEE 802.3, as zlib.crc32) of @p n bytes. */
 std::uint32_t crc32(char const *data, std::size_t n, std::uint32_t crc = 0);

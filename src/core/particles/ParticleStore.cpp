@@ -32,6 +32,8 @@ template <typename F> void ParticleStore::for_each_local_array(F &&fn) {
   fn(ext_torque);
   fn(fix);
 #endif
+  fn(gamma);
+  fn(gamma_rot);
 }
 
 std::vector<int> ParticleStore::ids_sorted() const {
@@ -64,6 +66,8 @@ void ParticleStore::add(ParticleProperties const &p) {
   ext_torque.push_back(p.ext_torque);
   fix.push_back(p.fix);
 #endif
+  gamma.push_back(p.gamma);
+  gamma_rot.push_back(p.gamma_rot);
   if (p.id >= static_cast<int>(m_index.size()))
     m_index.resize(p.id + 1, -1);
   m_index[p.id] = m_n_local++;
@@ -89,6 +93,8 @@ ParticleProperties ParticleStore::get(int pid) const {
   p.ext_torque = ext_torque[i];
   p.fix = fix[i];
 #endif
+  p.gamma = gamma[i];
+  p.gamma_rot = gamma_rot[i];
   return p;
 }
 

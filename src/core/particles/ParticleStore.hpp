@@ -25,6 +25,9 @@ struct ParticleProperties {
   Utils::Vector3d ext_force{};
   Utils::Vector3d ext_torque{};
   std::uint8_t fix = 0; // bit d set: coordinate d is fixed
+  /** Langevin / Brownian friction of this particle; < 0: the thermostat's global value. */
+  double gamma = -1.;
+  double gamma_rot = -1.;
 };
 
 /** A copy of another rank's particle, sent at a rebuild (cells/CellSystem.cpp). */
@@ -59,6 +62,8 @@ public:
   std::vector<Utils::Vector3d> ext_force, ext_torque;
   std::vector<std::uint8_t> fix;
 #endif
+  // Per-particle Langevin/Brownian friction (< 0: the global value); always compiled in.
+  std::vector<double> gamma, gamma_rot;
   // Ghost-only data, indexed by (ghost index - n_local).
   std::vector<int> ghost_owner;
   std::vector<Utils::Vector3d> ghost_shift;

@@ -34,7 +34,9 @@ struct AutoUpdate {
 // Shardlow: S1 splitting, exact pairwise DPD updates + VV for the rest;
 // DPDVV: velocity Verlet with the DPD friction recomputed from the full-step
 // velocities (Besold et al.). See integrators/shardlow.cpp, doc/stability.md.
-enum class IntegratorKind { VelocityVerlet, SteepestDescent, Shardlow, DPDVV };
+// BrownianDynamics: overdamped position update with the Brownian thermostat
+// (integrators/brownian.cpp, doc/thermostats.md).
+enum class IntegratorKind { VelocityVerlet, SteepestDescent, Shardlow, DPDVV, BrownianDynamics };
 
 struct SteepestDescentParams {
   double f_max = 0., gamma = 0., max_displacement = 0.;
@@ -119,14 +121,17 @@ public:
   // --- integration ---
   IntegratorKind integrator() const { return m_integrator; }
   void set_integrator_vv() {
+    leave_bd();
     m_integrator = IntegratorKind::VelocityVerlet;
     set_pair_dpd_in_force_loop(true);
   }
   void set_integrator_shardlow() {
+    leave_bd();
     m_integrator = IntegratorKind::Shardlow;
     set_pair_dpd_in_force_loop(false);
   }
   void set_integrator_dpd_vv() {
+    leave_bd();
     m_integrator = IntegratorKind::DPDVV;
     set_pair_dpd_in_force_loop(true);
   }
@@ -138,6 +143,12 @@ public:
     m_sd = p;
   }
   SteepestDescentParams const &sd_params() const { return m_sd; }
+  /** Brownian dynamics (needs the Brownian thermostat at run time). */
+  void set_integrator_bd() {
+    m_integrator = IntegratorKind::BrownianDynamics;
+    m_forces_valid = false; // BD forces exclude the thermostat
+    set_pair_dpd_in_force_loop(true);
+  }
   /** Integrate @p n_steps; returns the number of steps done. Throws Utils::RuntimeError. */
   int run(int n_steps, bool recalc_forces = false);
 
@@ -200,6 +211,13 @@ private:
   void check_forces_finite() const;
   int run_md(int n_steps); // VV, Shardlow, DPD-VV
   int run_sd(int n_steps);
+  int run_bd(int n_steps); // integrators/brownian.cpp
+  /** Throws Utils::RuntimeError if the thermostats do not fit the integrator. */
+  void check_thermostats_before_run() const;
+  void leave_bd() {
+    if (m_integrator == IntegratorKind::BrownianDynamics)
+      m_forces_valid = false; // BD forces exclude the thermostat
+  }
   void set_pair_dpd_in_force_loop(bool on) {
     if (on != m_dpd_in_pair_loop)
       m_forces_valid = false;

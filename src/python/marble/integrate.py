@@ -17,7 +17,8 @@ def _progress_line(done, total, elapsed):
 
 
 class Integrator:
-    """``system.integrator``: velocity Verlet, steepest descent, Shardlow and DPD-VV, and ``run``."""
+    """``system.integrator``: velocity Verlet, steepest descent, Shardlow, DPD-VV,
+    Brownian dynamics, and ``run``."""
     def __init__(self, system):
         self._core = system._core
 
@@ -102,9 +103,22 @@ class Integrator:
         Raises FeaturesError without DPD."""
         self._core.set_dpd_vv()
 
+    def set_brownian_dynamics(self):
+        """Brownian (overdamped Langevin) dynamics, as ESPResSo's
+        ``set_brownian_dynamics()``: each step moves every particle by
+        ``F dt / gamma + sqrt(2 kT dt / gamma) N(0, 1)`` per component and sets
+        its velocity to ``F / gamma + sqrt(kT / m) N'(0, 1)`` (the drift plus a
+        Maxwell velocity; rotating particles get ``omega = tau / gamma_rot +
+        sqrt(kT / I) N''``, no orientation is tracked). kT, gamma and
+        gamma_rotation come from ``thermostat.set_brownian(...)`` (required at
+        run time, RuntimeError otherwise) or the particle's own ``gamma`` /
+        ``gamma_rot``. Cannot be combined with the DPD or Langevin thermostat
+        (RuntimeError at run time). See doc/thermostats.md."""
+        self._core.set_brownian_dynamics()
+
     def get_state(self):
         """The active integrator: ``{"name": ...}`` plus steepest descent's parameters."""
         name = self._core.integrator_name()
-        if name in ("Shardlow", "DPDVV"):
+        if name in ("Shardlow", "DPDVV", "BrownianDynamics"):
             return {"name": name}
         return dict(self._core.integrator_state())

@@ -12,7 +12,7 @@ _AXIS3 = ("rotation", "rinertia")
 
 _PROPERTIES = ("id", "type", "pos", "pos_folded", "image_box", "v", "f", "mass",
                "rotation", "rinertia", "omega_lab", "omega_body", "torque_lab",
-               "ext_force", "ext_torque", "fix")
+               "ext_force", "ext_torque", "fix", "gamma", "gamma_rot")
 _READ_ONLY = ("id", "pos_folded", "image_box", "f", "torque_lab")
 
 

@@ -6,6 +6,7 @@
 
 #include <Random123/philox.h>
 
+#include <cmath>
 #include <cstdint>
 
 namespace Utils {
@@ -16,13 +17,14 @@ enum class RNGSalt : std::uint64_t {
   dpd = 1,
   marble = 2,
   tunable_slip_wall = 3,
-  langevin = 4,
+  langevin = 4,     // Langevin thermostat (seed, step, particle id, 0 transl. / 1 rot.)
   srd_shift = 5,    // SRD grid shift (seed, collision)
   srd_axis = 6,     // SRD rotation axis (seed, collision, cell)
   srd_thermo = 7,   // SRD cell thermostat (seed, collision, cell, block)
   srd_at = 8,       // SRD Andersen velocities (seed, collision, particle id)
   srd_wall = 9,     // SRD stochastic boundary (seed, MD step, particle id)
   srd_init = 10,    // SRD initial positions/velocities and relocation
+  brownian = 11,    // Brownian dynamics (seed, step, particle id, 0 pos / 1 vel / 2 omega)
   lubrication = 16, // suspensions (nonbonded/lubrication.hpp)
 };
 
@@ -49,6 +51,19 @@ inline Vector3d noise_uniform(std::uint64_t seed, RNGSalt salt, std::uint64_t st
   auto const r = philox_4x64(seed, salt, step, id_a, id_b);
   return {u64_to_centered_uniform(r[0]), u64_to_centered_uniform(r[1]),
           u64_to_centered_uniform(r[2])};
+}
+
+/** Three independent standard normal numbers (Box-Muller on three of the
+ * four Philox words, the fourth word giving the second angle). */
+inline Vector3d noise_gaussian(std::uint64_t seed, RNGSalt salt, std::uint64_t step,
+                               std::uint64_t id_a, std::uint64_t id_b) {
+  auto const r = philox_4x64(seed, salt, step, id_a, id_b);
+  constexpr double two_pi = 6.283185307179586;
+  auto open01 = [](std::uint64_t x) { return u64_to_centered_uniform(x) + 0.5; }; // (0, 1]
+  double const r1 = std::sqrt(-2. * std::log(open01(r[0])));
+  double const r2 = std::sqrt(-2. * std::log(open01(r[2])));
+  double const p1 = two_pi * open01(r[1]), p2 = two_pi * open01(r[3]);
+  return {r1 * std::cos(p1), r1 * std::sin(p1), r2 * std::cos(p2)};
 }
 
 } // namespace Utils
