@@ -266,7 +266,7 @@ class FlowField:
 
 def axis_profile(ff, r_edges, axis=0, half_width=None, theory=None, lab=False):
     """Velocity component along ``axis`` on that axis through the grid's origin
-    (the colloid's centre with ``co_moving``), binned in the distance r = |x_axis|
+    (the colloid's centre with ``co_moving``), binned in the distance ``r = abs(x_axis)``
     (both sides pooled, as the Stokes flow is symmetric) over the cells whose other
     two coordinates are within ``half_width`` (default: half a cell, i.e. the cells
     on the axis). Cells are weighted by their particle counts.
@@ -405,11 +405,17 @@ def stokes_velocity(points, U, R, b=0.0):
     return u
 
 
-def periodic_stokes_velocity(points, F, eta, R, L, b=0.0, n_grid=None, sigma=0.25):
+def periodic_stokes_velocity(points, F, eta, R, L, b=0.0, n_grid=None, sigma=0.25,
+                             fluid_counter_force=True):
     """Stokes flow of a sphere dragged by force F in a periodic cubic box of side L,
-    in the frame where the box's mean velocity is zero (the counter force -F is
-    spread uniformly over the fluid, as a drag run with -F/N on every solvent bead
-    does; Hasimoto 1959).
+    in the frame where the box's mean velocity is zero (zero total momentum for a
+    neutrally buoyant sphere; Hasimoto 1959).
+
+    The counter force -F is spread uniformly: with ``fluid_counter_force=True``
+    (default) over the fluid only, as a drag run with -F/N on every solvent bead
+    does, which is the same as a uniform density over the whole box (the Fourier
+    sum below) plus a force F L^3/(L^3 - 4 pi R^3/3) on the sphere; False: over the
+    whole box, sphere included (the sphere force is F).
 
     The sphere is represented by a force F on a spherical shell of radius a,
     smoothed by a Gaussian of width ``sigma``: outside it (r > a + 4 sigma) its flow
@@ -426,6 +432,8 @@ def periodic_stokes_velocity(points, F, eta, R, L, b=0.0, n_grid=None, sigma=0.2
     if not (eta > 0 and R > 0 and L > 0):
         raise ValueError("parameters 'eta', 'R', 'L' must be > 0")
     A, B = _basset_coefficients(R, b)
+    if fluid_counter_force:
+        F = F * L ** 3 / (L ** 3 - 4.0 / 3.0 * np.pi * R ** 3)
     if not (sigma > 0 and sigma < R / 4):
         raise ValueError(f"parameter 'sigma' must be in (0, R/4), got {sigma}")
     # perfect slip (B = 0): a = 0, the Gaussian's own doublet sigma^2/2 remains (relative
