@@ -43,7 +43,8 @@ class FlowField:
     system : marble.System
     grid : (nx, ny, nz) ints >= 1, the number of cells along each axis.
     types : particle types to include (default: every type; the co-moving
-        particle itself is always left out).
+        particle itself is always left out). The selection is made at the first
+        sample and redone whenever the number of particles changes.
     co_moving : id (or ParticleHandle) of the particle whose frame is used:
         positions relative to its centre (minimum image), velocities minus its
         velocity. None (default): the lab frame.
