@@ -179,7 +179,7 @@ for ax, label in zip(axes[:2], ("stick", "slip")):
 fig.colorbar(sp.lines, ax=axes[:2], orientation="horizontal", shrink=0.5, pad=0.12,
              label="|u - V| / V (co-moving frame)")
 ax = axes[2]
-rr = np.linspace(R + 0.6, L / 2, 200)   # the periodic sum with sigma = 0.15 is exact from a + 4 sigma <= R + 0.6
+rr = np.linspace(R + 0.6, L / 2, 200)  # with sigma = 0.15 the sum is exact from a + 4 sigma <= R + 0.6
 for k, label in enumerate(("stick", "slip")):
     res = results[label]
     V, prof = res["V"], res["prof"]

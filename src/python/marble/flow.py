@@ -326,7 +326,8 @@ def write_vtk(path, origin, spacing, fields):
     nx, ny, nz = shapes.pop()
     o, s = _vec3("origin", origin), _vec3("spacing", spacing)
     with open(path, "wb") as f:
-        f.write(b"# vtk DataFile Version 3.0\nmarble flow field\nBINARY\nDATASET STRUCTURED_POINTS\n")
+        f.write(b"# vtk DataFile Version 3.0\nmarble flow field\nBINARY\n"
+                b"DATASET STRUCTURED_POINTS\n")
         f.write(f"DIMENSIONS {nx} {ny} {nz}\nORIGIN {o[0]!r} {o[1]!r} {o[2]!r}\n"
                 f"SPACING {s[0]!r} {s[1]!r} {s[2]!r}\nPOINT_DATA {nx * ny * nz}\n".encode())
         for name, a in fields.items():
