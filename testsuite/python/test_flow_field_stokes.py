@@ -20,7 +20,7 @@ fluctuations, and shrink only as 1/sqrt(time)). The bin beyond R + 2.5, where
 the images cancel much of the Stokeslet, is printed only. The colloid's own
 velocity is checked against Hasimoto's D(L) F within max(10 %, 3 sigma).
 
-Measured: doc/flow-fields.md (about 60 s of CPU)."""
+Measured: doc/flow-fields.md (60 s of CPU, deterministic for the fixed seed)."""
 import time
 
 import numpy as np
