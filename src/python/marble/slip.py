@@ -504,7 +504,7 @@ def gamma_for_slip_length(b, surface="wall", curve=None, **conditions):
     Returns SlipCoupling(gamma, gamma_err): gamma_err is the curve's error at b
     (the calibration points' error bars propagated through the monotone
     interpolation, plus the interpolation error between points) divided by
-    |db/dgamma|. ValueError when b is outside the calibrated range.
+    the slope of the curve. ValueError when b is outside the calibrated range.
     """
     data = load_curve(surface, curve)
     _check_conditions(data, conditions)
@@ -675,7 +675,8 @@ def calibrate(surface="wall", gammas=(0.3, 0.5, 0.7, 1.0), out=None, seed=1, res
     run keys: radius [2], L [10], t_prod [2000 tau], t_equil [20],
     velocity [0.2], eta, eta_err, rho, gamma_dpd, kT, dt, marble_r_cut [1].
 
-    n_steps (walls) and t_prod (marble) may be lists, one run length per gamma.
+    n_steps (walls) and t_prod (marble) may be lists, one run length per gamma;
+    each point records its own (a resumed calibration may use other lengths).
     Point k runs with seed + 2 k (the wall's Couette run with seed + 2 k + 1).
     out: JSON path, rewritten after every point; with resume=True points
     already in it (same gamma, same conditions and run parameters) are kept,
@@ -719,24 +720,25 @@ def calibrate(surface="wall", gammas=(0.3, 0.5, 0.7, 1.0), out=None, seed=1, res
     if out is not None and resume and os.path.exists(out):
         with open(out) as f:
             old = json.load(f)
-        same_m = {k: v for k, v in old.get("measurement", {}).items()
-                  if k not in ("marble_git", "date", "cpu_s")} == \
-            {k: v for k, v in measurement.items() if k not in ("marble_git", "date", "cpu_s")}
+        skip = ("marble_git", "date", "cpu_s", "n_steps", "t_prod")  # lengths: per point
+        same_m = {k: v for k, v in old.get("measurement", {}).items() if k not in skip} == \
+            {k: v for k, v in measurement.items() if k not in skip}
         if old.get("conditions") == conditions and same_m:
             data["points"] = [p for p in old["points"]]
     done = {round(p["gamma"], 12) for p in data["points"]}
+    length_key = "n_steps" if surface == "wall" else "t_prod"
 
     def write():
         data["points"].sort(key=lambda p: p["gamma"])
         data["measurement"]["date"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
         data["measurement"]["cpu_s"] = float(sum(p.get("cpu_s", 0.0) for p in data["points"]))
+        data["measurement"][length_key] = [p.get(length_key) for p in data["points"]]
         if out is not None:
             tmp = out + ".tmp"
             with open(tmp, "w") as f:
                 json.dump(data, f, indent=1)
             os.replace(tmp, out)
 
-    length_key = "n_steps" if surface == "wall" else "t_prod"
     lengths = base[length_key]
     if np.ndim(lengths) == 0:
         lengths = [lengths] * len(gammas)
@@ -757,6 +759,7 @@ def calibrate(surface="wall", gammas=(0.3, 0.5, 0.7, 1.0), out=None, seed=1, res
             mkw["marble_r_cut"] = conditions["marble_r_cut"]
             mkw["t_prod"] = float(lengths[k])
             pt = measure_marble_slip(marble_module, g, seed=s, **mkw)
+        pt["marble_git"] = measurement["marble_git"]
         data["points"].append(pt)
         write()
     write()
