@@ -1,4 +1,11 @@
-"""Slip length and hydrodynamic boundary of tunable-slip walls (doc/walls.md).
+"""Slip length and hydrodynamic boundary of tunable-slip walls (doc/walls.md), and
+slip length on request for walls and marble colloids (doc/walls.md, doc/marble.md)::
+
+  g, g_err = gamma_for_slip_length(0.5, surface="wall")    # or surface="marble"
+  b, b_err = slip_length_for_gamma(g, "wall")
+  calibrate(surface="wall", gammas=[...], out="curve.json", rho=4.0)  # own conditions
+
+from measured calibration curves b(gamma) shipped in marble/data/slip_*.json.
 
 A channel of DPD fluid between two walls at z = 0 and z = L (normals +z / -z,
 periodic in x and y). A Poiseuille run (body force g along x on every bead) and
