@@ -137,3 +137,60 @@ def test_kernels_add_up():
     s.integrator.run(0)
     f_ref = lj_force(0.9, 0.5, 0.8, 2.0) + 10.0 * (1 - 0.9 / 1.5)
     np.testing.assert_allclose(s.part.by_id(1).f, [f_ref, 0, 0], rtol=1e-12)
+
+
+@skipIfMissingFeatures("LENNARD_JONES")
+def test_interaction_object_constructed_on_its_own():
+    """ESPResSo 4.3 style: an interaction object built with its parameters
+    (validated at once, like set_params), assigned to a type pair; the pair's
+    forces are then those of set_params with the same parameters."""
+    from marble.interactions import LennardJonesInteraction
+    lj = LennardJonesInteraction(epsilon=1.2, sigma=1.0, cutoff=2.5, shift="auto")
+    p = lj.get_params()
+    assert p["epsilon"] == 1.2 and p["cutoff"] == 2.5
+    assert p["shift"] == pytest.approx(-(1.0 / 2.5 ** 12 - 1.0 / 2.5 ** 6))
+    assert "unbound" in repr(lj)
+    s1, s2 = pair_system(1.1), pair_system(1.1)
+    s1.non_bonded_inter[0, 0].lennard_jones = lj
+    s2.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.2, sigma=1.0, cutoff=2.5, shift="auto")
+    assert s1.non_bonded_inter[0, 0].lennard_jones.get_params() == p
+    s1.integrator.run(0)
+    s2.integrator.run(0)
+    np.testing.assert_array_equal(s1.part.all().f, s2.part.all().f)
+    assert np.abs(s1.part.all().f).max() > 0
+    # the object is a value: changing it later leaves the system alone
+    lj.set_params(epsilon=2.0, sigma=1.0, cutoff=2.5)
+    assert s1.non_bonded_inter[0, 0].lennard_jones.get_params()["epsilon"] == 1.2
+    # a deactivated object switches the pair off when assigned
+    lj.deactivate()
+    s1.non_bonded_inter[0, 0].lennard_jones = lj
+    assert not s1.non_bonded_inter[0, 0].lennard_jones.is_active()
+
+
+@skipIfMissingFeatures("LENNARD_JONES")
+def test_interaction_object_bad_input():
+    from marble.interactions import LennardJonesInteraction
+    with pytest.raises(ValueError, match="epsilon"):
+        LennardJonesInteraction(epsilon=-1.0, sigma=1.0, cutoff=2.5)
+    with pytest.raises(ValueError, match="sigma"):
+        LennardJonesInteraction(epsilon=1.0, cutoff=2.5)
+    with pytest.raises(ValueError, match="keyword"):
+        LennardJonesInteraction(1.0, 1.0, 2.5)
+    s = marble.System(box_l=[10.0] * 3)
+    with pytest.raises(ValueError, match="LennardJonesInteraction"):
+        s.non_bonded_inter[0, 0].lennard_jones = 3
+    with pytest.raises(AttributeError, match="no interaction"):
+        s.non_bonded_inter[0, 0].no_such_kind = LennardJonesInteraction(epsilon=1.0, sigma=1.0, cutoff=2.5)
+    assert not s.non_bonded_inter[0, 0].lennard_jones.is_active()
+
+
+def test_interaction_object_of_missing_feature():
+    """A kernel that is not compiled in: FeaturesError naming its feature."""
+    from marble import interactions
+    missing = [k for k in interactions.KERNELS if not k["compiled"]]
+    if not missing:
+        pytest.skip("every kernel is compiled into this build")
+    k = missing[0]
+    cls = getattr(interactions, k["py_class"])
+    with pytest.raises(marble.FeaturesError, match=k["feature"]):
+        cls()
