@@ -307,7 +307,9 @@ def analyse(datas):
         eta, eta_err = eta_of(model, d)
         for section in ("drag", "gk"):
             for key, r in d.get(section, {}).items():
-                R, L, bc = r["R"], r["L"], r.get("boundary", "stick")
+                # the core colloid has only one surface (slip), whatever the run was labelled
+                R, L = r["R"], r["L"]
+                bc = BOUNDARY["core"] if model == "core" else r.get("boundary", "stick")
                 b = 0.0 if bc == "stick" else np.inf
                 shift = th.diffusion_coefficient(eta, R, np.inf, b) - th.diffusion_coefficient(eta, R, L, b)
                 D_inf = r["D"] + shift
@@ -408,9 +410,40 @@ def summary_and_plot(out_dir, quick):
     for r in prow:
         log(f"paper {r['model']:7s} R=3 L=15 N={r['N']} {r['cpu_per_tau']:.4f} CPU-s/tau, "
             f"CPU to 1 % {r['cpu_1']:.0f}, 5 % {r['cpu_5']:.1f} (error extrapolated)")
+    print_markdown(summary)
     if not quick:
         write_package_data(summary)
     plot(rows, prow, datas, os.path.join(ROOT, "doc", "figures", f"three_solvents{suffix}.png"))
+
+
+def _pm(x, e, nd=5):
+    return f"{x:.{nd}f}({int(round(e * 10 ** nd))})" if e is not None and np.isfinite(e) else f"{x:.{nd}f}"
+
+
+def print_markdown(summary):
+    """The tables of doc/choosing-a-model.md."""
+    log("\n| model | method | surface | L | eta | D(L) | D(inf) | Stokes | systematic error | "
+        "CPU-s per tau | CPU-s to 5 % | CPU-s to 1 % |")
+    log("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in summary["rows"]:
+        log(f"| {r['model']} | {r['method']} | {r['boundary']} | {r['L']:g} | "
+            f"{_pm(r['eta'], r['eta_err'], 3)} | {_pm(r['D_L'], r['D_L_err'])} | {r['D_inf']:.5f} | "
+            f"{r['D_stokes']:.5f} | {100 * r['sys']:+.1f} +/- {100 * r['sys_err']:.1f} % | "
+            f"{r['cpu_per_tau']:.4f} | {r['cpu_5']:.3g} | {r['cpu_1']:.3g} |")
+    log("\n| model | method | D_rot(L) | D_rot(inf) | Stokes 1/(8 pi eta R^3) | systematic error | "
+        "CPU-s to 5 % |")
+    log("|---|---|---|---|---|---|---|")
+    for r in summary["rows"]:
+        if "D_rot" in r:
+            log(f"| {r['model']} | Green-Kubo | {_pm(r['D_rot'], r['D_rot_err'], 6)} | "
+                f"{r['D_rot_inf']:.6f} | {r['D_rot_stokes']:.6f} | {100 * r['sys_rot']:+.0f} +/- "
+                f"{100 * r['D_rot_err'] / r['D_rot_stokes']:.0f} % | {r['cpu_rot_5']:.3g} |")
+    log("\n| model | N | dt | CPU-s per tau (measured) | CPU-s to 5 % (extrapolated) | "
+        "CPU-s to 1 % (extrapolated) |")
+    log("|---|---|---|---|---|---|")
+    for r in summary["paper"]:
+        log(f"| {r['model']} | {r['N']} | {r['dt']:g} | {r['cpu_per_tau']:.4f} | {r['cpu_5']:.3g} | "
+            f"{r['cpu_1']:.3g} |")
 
 
 def write_package_data(summary):

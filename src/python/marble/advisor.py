@@ -243,18 +243,37 @@ def n_particles(model, R, L):
     return int(round(_DENSITY[model] * (L ** 3 - 4.0 / 3.0 * math.pi * R ** 3))) + 1
 
 
+def _range3(model, R):
+    """Cube of the longest pair range + skin of a scene: the core colloid's
+    colloid-solvent range (R + r'_c) sets the cell grid of every particle."""
+    if model == "core":
+        from . import suspensions as sus
+        return (sus.equal_volume_cutoff(R) + 0.4) ** 3
+    return 1.0
+
+
 def cpu_per_time(model, R, L, speed=None, table=None):
     """Estimated CPU-seconds per unit simulated time of a ``model`` scene (colloid
-    radius R, cubic box L) on this machine: the measured cost per particle-step of
-    the nearest measured scene, times this scene's particles and steps per unit
-    time, times (measuring machine's probe speed / this machine's)."""
+    radius R, cubic box L) on this machine: the measured cost per particle-step
+    (at R = 2 and R = 3), interpolated linearly in the cube of the scene's
+    longest interaction range + skin (core colloid) or in R (the others),
+    times this scene's particles and steps per unit time, times (measuring
+    machine's probe speed / this machine's)."""
     _check_model(model)
     R, L = _pos("R", R), _pos("L", L)
     t = table or load_table()
     m = t["models"][model]
-    cands = [m[k] for k in ("drag", "paper") if k in m]
-    ref = min(cands, key=lambda c: abs(c["R"] - R) + 0.1 * abs(c["L"] - L))
-    per_particle_step = ref["cpu_per_tau"] * ref["dt"] / ref["N"]
+    pts = sorted((c["R"], c["cpu_per_tau"] * c["dt"] / c["N"]) for c in
+                 (m[k] for k in ("drag", "paper") if k in m))
+    x = [(_range3(model, r) if model == "core" else r) for r, _ in pts]
+    y = [c for _, c in pts]
+    xq = _range3(model, R) if model == "core" else R
+    if len(pts) == 1 or abs(x[-1] - x[0]) < 1e-12:
+        per_particle_step = y[0]
+    elif model == "core":   # linear in range^3, extrapolated too (cell volume law)
+        per_particle_step = y[0] + (y[-1] - y[0]) * (xq - x[0]) / (x[-1] - x[0])
+    else:                   # linear in R between the measured radii, constant outside
+        per_particle_step = float(np.interp(xq, x, y))
     dt = model_dt(model, R, t)
     cost = per_particle_step * n_particles(model, R, L) / dt
     if speed is None:
@@ -268,7 +287,7 @@ def estimate_cost(model, R, L, T, speed=None, table=None):
     return cpu_per_time(model, R, L, speed, table) * _pos("T", T)
 
 
-def _var_T(model, observable, R, L, t):
+def _var_T(model, observable, R, L, t, key="drag"):
     """(relative error)^2 x run length of the observable's best method, and
     whether it was extrapolated from the measured R, L."""
     from . import theory as th
@@ -283,12 +302,12 @@ def _var_T(model, observable, R, L, t):
         if not g or "var_T_rot" not in g:
             return None, None
         return g["var_T_rot"], not (abs(g["R"] - R) < 1e-9 and abs(g["L"] - L) < 1e-9)
-    d = m["drag"]
+    d = m[key]
     if abs(d["R"] - R) < 1e-9 and abs(d["L"] - L) < 1e-9:
         return d["var_T"], False
     # drag floor law at the same velocity, scaled by the measured/law ratio
     eta = m["eta"][0]
-    b = 0.0 if m["boundary"] == "stick" else np.inf
+    b = 0.0 if (m["boundary"] == "stick" and key == "drag") or key == "drag_stick" else np.inf
 
     def law(R_, L_):
         D_inf = th.diffusion_coefficient(eta, R_, np.inf, b) * (1 + d["sys"])
@@ -362,7 +381,10 @@ def recommend(observable="D", accuracy=0.05, R=2.0, boundary="stick", L_over_R=5
             if key not in m:
                 continue
         L = float(L_over_R * R) if model != "srd" else float(round(L_over_R * R))
-        vt, extrap = _var_T(model, observable, R, L, t)
+        if model == "core":   # setup_suspension needs L > 2 (2R + r_c)
+            L = max(L, float(math.floor(2 * (2 * R + 1.0)) + 1))
+        dkey = "drag" if m["boundary"] == boundary else "drag_" + boundary
+        vt, extrap = _var_T(model, observable, R, L, t, dkey)
         if vt is None:
             continue
         if observable == "viscosity":
