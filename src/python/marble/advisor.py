@@ -398,14 +398,17 @@ def recommend(observable="D", accuracy=0.05, R=2.0, boundary="stick", L_over_R=5
             src = m["drag"] if (observable == "D" and m["boundary"] == boundary) else \
                 m.get("drag_" + boundary, m["drag"]) if observable == "D" else m["gk"]
             sysm = src["sys_rot"] if observable == "D_rot" else src["sys"]
-            syse = src.get("sys_err", 0.0) if observable == "D" else 0.0
+            syse = src.get("sys_err", 0.0) if observable == "D" else \
+                src["D_rot_err"] / src["D_rot"] * (1 + sysm)
             cost_t = cpu_per_time(model, R, L, speed, t)
             n = n_particles(model, R, L)
             method = "drag + Hasimoto" if observable == "D" else "Green-Kubo (angular VACF)"
             dt = model_dt(model, R, t)
-        budget_sys = syse if calibrated else abs(sysm)
+        # a calibration (the measured hydrodynamic radius) holds at the measured R only
+        calib = calibrated and not extrap
+        budget_sys = syse if calib else abs(sysm)
         eligible = budget_sys < acc
-        stat = math.sqrt(max(acc ** 2 - budget_sys ** 2, (0.2 * acc) ** 2))
+        stat = math.sqrt(acc ** 2 - budget_sys ** 2) if eligible else acc
         T = vt / stat ** 2
         rows.append(dict(model=model, method=method, L=L, dt=dt, n_particles=n, run_time=T,
                          cpu_s=T * cost_t, cpu_per_time=cost_t, systematic=sysm,
@@ -423,6 +426,9 @@ def recommend(observable="D", accuracy=0.05, R=2.0, boundary="stick", L_over_R=5
                      f"'{best['model']}' has the smallest ({100 * best['systematic']:+.1f} %); "
                      "calibrate its hydrodynamic radius (calibrated=True) or accept it")
     alts = sorted([r for r in rows if r is not best], key=lambda r: r["cpu_s"])
+    if calibrated and best["extrapolated"]:
+        notes.append("calibrated=True applies at the measured radius only: the systematic "
+                     "error at this R is the measured one, not recalibrated")
     if observable == "D":
         notes.append(f"D(L) in the box L = {best['L']:g} is corrected to D(inf) with Hasimoto's "
                      "formula at the solvent's measured viscosity (marble.theory.diffusion_coefficient)")
