@@ -16,7 +16,6 @@ test_three_solvents_paper.py (label paper); here it runs 3 time units for the
 cost ranking only."""
 import math
 
-import numpy as np
 import pytest
 
 import marble
