@@ -247,7 +247,8 @@ def plan(model, quick):
     # setup_suspension needs L > 2 (2R + r_c) = 10 at R = 2: the core colloid gets L = 11
     L = 11.0 if model == "core" else 10.0
     p = {"eta": [("eta", dict(T={"marble": 400.0, "srd": 2000.0, "core": 100.0}[model] * f))],
-         "drag": [("R2_L10", dict(R=2.0, L=L, T=T_drag, t_eq=20.0 if model != "core" else 10.0))],
+         "drag": [("R2_L10", dict(R=2.0, L=L, T=T_drag, boundary=BOUNDARY[model],
+                                  t_eq=20.0 if model != "core" else 10.0))],
          "gk": [("R2_L10", dict(R=2.0, L=L, t_chunk=chunk, n_chunks=n_ch))],
          "paper": [("R3_L15", dict(R=3.0, L=15.0, T=(0.2 if quick else
                                                      (1.0 if model == "core" else 10.0))))]}
