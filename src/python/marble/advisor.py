@@ -499,9 +499,11 @@ def check_scene(system, observable="D", verbose=False):
             n = int(np.sum(np.any(np.atleast_2d(rot), axis=1)))
             out.append(dict(code="unneeded_rotation", value=n,
                             message=f"{n} particle(s) rotate, but '{observable}' needs only "
-                                    "translation: a sphere's translational mobility does not "
-                                    "couple to its rotation; rotation=[False]*3 saves the "
-                                    "rotational integration (a small cost)"))
+                                    "translation: in the Stokes limit a single sphere's "
+                                    "translational mobility does not couple to its rotation; "
+                                    "rotation=[False]*3 saves the rotational integration (a "
+                                    "small cost). Not measured here: a frozen surface changes "
+                                    "the short-time (kinetic) friction, check D once"))
     for i in solvent_types:
         for j in solvent_types:
             if j < i:
