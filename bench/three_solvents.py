@@ -235,9 +235,9 @@ class Store:
 
 def plan(model, quick):
     """Cases per section at reduced size (R = 2, L = 10; core: 11) and the
-    paper-size cost probe (R = 3, L = 15). The core-modified colloid costs
-    ~70x more per unit time than the marble (its colloid-solvent range sets
-    the cell grid of every particle), so its runs are short."""
+    paper-size cost probe (R = 3, L = 15). The stored core-modified runs
+    still had the colloid-colloid kernels (70x the marble's cost per unit
+    time, now 11x: advisor.Scene removes them), so its runs are short."""
     f = 0.03 if quick else 1.0
     T_drag = {"marble": 2000.0, "srd": 4000.0, "core": 60.0}[model] * f
     chunk = {"marble": 150.0, "srd": 200.0, "core": 25.0}[model]
@@ -319,15 +319,19 @@ def analyse(datas):
                 rel_stat = r["D_err"] / D_inf
                 sys_err = D_inf / ref - 1.0
                 sys_eta = (r["D"] / ref) * (eta_err / eta)   # (D_inf/ref) changes by D(L)/ref x deta/eta
+                cpu_tau, N = r["cpu_per_tau"], r["N"]
+                c = d.get("cost", {}).get(f"R{R:g}_L{L:g}")
+                if c:   # the same scene re-timed without unused kernels (cost_note in the JSON)
+                    cpu_tau, N = c["cpu_per_tau"], c["N"]
                 row = dict(model=model, method=section, case=key, boundary=bc, R=R, L=L, T=r["T"],
                            eta=eta, eta_err=eta_err, D_L=r["D"], D_L_err=r["D_err"], D_inf=D_inf,
                            D_inf_err=r["D_err"], D_stokes=ref, sys=sys_err,
                            sys_err=math.hypot(rel_stat * (1 + sys_err), sys_eta),
-                           cpu_per_tau=r["cpu_per_tau"], N=r["N"], dt=r["dt"],
+                           cpu_per_tau=cpu_tau, cpu_per_tau_run=r["cpu_per_tau"], N=N, dt=r["dt"],
                            rel_err=rel_stat, var_T=rel_stat ** 2 * r["T"])
                 for eps in (0.01, 0.05):
                     row[f"T_{int(eps * 100)}"] = r["T"] * (rel_stat / eps) ** 2
-                    row[f"cpu_{int(eps * 100)}"] = row[f"T_{int(eps * 100)}"] * r["cpu_per_tau"]
+                    row[f"cpu_{int(eps * 100)}"] = row[f"T_{int(eps * 100)}"] * cpu_tau
                 if "D_rot" in r:
                     Dr_th = th.rotational_diffusion_coefficient(eta, R, L, b if bc == "stick" else 0.0)
                     Dr_inf_th = th.rotational_diffusion_coefficient(eta, R, np.inf, 0.0)
@@ -337,8 +341,8 @@ def analyse(datas):
                                D_rot_stokes=Dr_inf_th, sys_rot=Dr_inf / Dr_inf_th - 1.0,
                                D_rot_L_theory=Dr_th)
                     rr = r["D_rot_err"] / Dr_inf
-                    row["cpu_rot_5"] = r["T"] * (rr / 0.05) ** 2 * r["cpu_per_tau"]
-                    row["cpu_rot_1"] = r["T"] * (rr / 0.01) ** 2 * r["cpu_per_tau"]
+                    row["cpu_rot_5"] = r["T"] * (rr / 0.05) ** 2 * cpu_tau
+                    row["cpu_rot_1"] = r["T"] * (rr / 0.01) ** 2 * cpu_tau
                 rows.append(row)
     return rows
 
@@ -350,7 +354,7 @@ def paper_rows(datas, rows):
     from Hasimoto and the model's systematic error measured at R = 2."""
     out = []
     for model, d in datas.items():
-        pr = d.get("paper", {}).get("R3_L15")
+        pr = d.get("cost", {}).get("R3_L15") or d.get("paper", {}).get("R3_L15")
         r2 = [r for r in rows if r["model"] == model and r["method"] == "drag" and r["R"] == 2.0
               and r["boundary"] == BOUNDARY[model]]
         if not pr or not r2:

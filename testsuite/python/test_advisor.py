@@ -22,7 +22,7 @@ pytestmark = pytest.mark.skipif(not marble.has_features(*FEATURES),
 if marble.has_features(*FEATURES):
     import marble.advisor as adv
 
-SCENES = [("marble", 2.0, 8.0, 40.0), ("srd", 2.0, 12.0, 150.0), ("core", 2.5, 13.0, 0.5)]
+SCENES = [("marble", 2.0, 8.0, 40.0), ("srd", 2.0, 12.0, 150.0), ("core", 2.5, 13.0, 2.0)]
 
 
 @pytest.mark.parametrize("model,R,L,T", SCENES)

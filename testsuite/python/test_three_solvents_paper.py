@@ -1,7 +1,7 @@
 # labels: python paper
 """The paper-length version of test_three_solvents.py's core-modified colloid
 (R = 2, L = 11, 20 time units to the steady state, then 150 of drag,
-~9 CPU-minutes): D(inf) against the
+~90 CPU-s): D(inf) against the
 slip Stokes value kT/(4 pi eta R) within the systematic error stated in the
 measured table (marble/data/three_solvents.json, doc/choosing-a-model.md),
 3 sigma of this run's error combined with the table's uncertainty."""
