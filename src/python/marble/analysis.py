@@ -66,13 +66,31 @@ class Analysis:
         ``pressure_tensor()["total"] + dpd_stress_split()["total"]``."""
         return dict(self._core.dpd_stress())
 
-    def check_scene(self):
+    def check_scene(self, target=None):
         """Warnings for parameter choices known to be inaccurate (doc/stability.md):
         a list of dicts with 'code', 'message' (quoting the measured number behind
         the rule), 'value' (the scene's) and 'limit'. Empty when nothing is flagged.
         Codes: dt_kT_error, solvent_density, box_too_small, marble_slip,
-        friction_near_limit, skin_small."""
-        return [dict(w) for w in self._core.check_scene()]
+        friction_near_limit, skin_small.
+
+        ``target``: optionally the observable ("D", "D_rot", "viscosity") or a
+        dict ``{"observable": ..., "accuracy": ..., "R": ..., "boundary": ...}``.
+        Then the scene advisor (:mod:`marble.advisor`) adds the features the
+        observable does not need (codes unneeded_rotation, unneeded_conservative,
+        unneeded_colloid_pairs) and, as the last entry, code 'recommendation'
+        with the cheapest model for that accuracy (printed, and its
+        :class:`marble.advisor.Recommendation` under 'value';
+        doc/choosing-a-model.md)."""
+        out = [dict(w) for w in self._core.check_scene()]
+        if target is None:
+            return out
+        from . import advisor
+        t = {"observable": target} if isinstance(target, str) else dict(target)
+        obs = t.pop("observable", "D")
+        out += advisor.check_scene(self._system, obs, verbose=True)
+        rec = advisor.recommend(obs, **t)
+        out.append(dict(code="recommendation", message=str(rec), value=rec))
+        return out
 
     def linear_momentum(self, include_particles=True, include_lbfluid=True):
         """Total linear momentum sum m v."""
