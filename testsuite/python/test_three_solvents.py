@@ -12,7 +12,7 @@ run's statistical error combined with the table's uncertainty; and that the
 ranking of the models by CPU time per unit simulated time (time.process_time,
 ratios within this run) is the one printed in the doc. The core colloid costs ~11x the marble per unit
 time: a run long enough for its D (170 time units, ~90 CPU-s) is
-test_three_solvents_paper.py (label paper); here it runs 3 time units for the
+test_three_solvents_core.py (label long); here it runs 3 time units for the
 cost ranking only."""
 import math
 

@@ -1,5 +1,5 @@
-# labels: python paper
-"""The paper-length version of test_three_solvents.py's core-modified colloid
+# labels: python long
+"""The core-modified colloid of test_three_solvents.py, run long enough for its D
 (R = 2, L = 11, 20 time units to the steady state, then 150 of drag,
 ~90 CPU-s): D(inf) against the
 slip Stokes value kT/(4 pi eta R) within the systematic error stated in the
