@@ -20,17 +20,6 @@ namespace Marble {
 
 using Utils::Vector3d;
 
-namespace {
-[[maybe_unused]] bool bd_fixed(ParticleStore const &ps, int i, int d) {
-#ifdef EXTERNAL_FORCE
-  return (ps.fix[i] >> d) & 1;
-#else
-  (void)ps, (void)i, (void)d;
-  return false;
-#endif
-}
-} // namespace
-
 int System::run_bd(int n_steps) {
   if (m_time_step <= 0.)
     throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
@@ -64,7 +53,7 @@ int System::run_bd(int n_steps) {
                                             static_cast<std::uint64_t>(m_ps.id[i]), 0);
       Vector3d dx = (dt / g) * m_ps.f[i] + std::sqrt(2. * th.kT * dt / g) * xi;
       for (int d = 0; d < 3; ++d)
-        if (bd_fixed(m_ps, i, d))
+        if (m_ps.is_fixed(i, d))
           dx[d] = 0.;
       return dx;
     };
@@ -105,7 +94,7 @@ int System::run_bd(int n_steps) {
       auto const xv = Utils::noise_gaussian(th.seed, Utils::RNGSalt::brownian, c, pid, 1);
       Vector3d v = (1. / g) * m_ps.f[i] + std::sqrt(th.kT / m_ps.get_mass(i)) * xv;
       for (int d = 0; d < 3; ++d)
-        if (bd_fixed(m_ps, i, d))
+        if (m_ps.is_fixed(i, d))
           v[d] = 0.;
       m_ps.v[i] = v;
 #ifdef ROTATION

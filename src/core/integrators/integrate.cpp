@@ -18,23 +18,12 @@ namespace Marble {
 
 using Utils::Vector3d;
 
-namespace {
-[[maybe_unused]] bool fixed(ParticleStore const &ps, int i, int d) {
-#ifdef EXTERNAL_FORCE
-  return (ps.fix[i] >> d) & 1;
-#else
-  (void)ps, (void)i, (void)d;
-  return false;
-#endif
-}
-} // namespace
-
 // v += half_dt F/m (and omega += half_dt tau/I).
 void System::kick(double half_dt) {
   for (int i = 0; i < m_ps.n_local(); ++i) {
     double const a = half_dt / m_ps.get_mass(i);
     for (int d = 0; d < 3; ++d)
-      m_ps.v[i][d] = fixed(m_ps, i, d) ? 0. : m_ps.v[i][d] + a * m_ps.f[i][d];
+      m_ps.v[i][d] = m_ps.is_fixed(i, d) ? 0. : m_ps.v[i][d] + a * m_ps.f[i][d];
 #ifdef ROTATION
     if (m_ps.rotation[i])
       m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
@@ -52,7 +41,7 @@ void System::drift_checked() {
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
     double const a = 0.5 * dt / m_ps.get_mass(i);
     for (int d = 0; d < 3; ++d) {
-      bool const fx = fixed(m_ps, i, d);
+      bool const fx = m_ps.is_fixed(i, d);
       dv[d] = fx ? -m_ps.v[i][d] : a * m_ps.f[i][d];
       dx[d] = fx ? 0. : dt * (m_ps.v[i][d] + dv[d]);
     }
@@ -242,7 +231,7 @@ int System::run_sd(int n_steps) {
     for (int i = 0; i < m_ps.n_local(); ++i) {
       Vector3d f = m_ps.f[i];
       for (int d = 0; d < 3; ++d)
-        if (fixed(m_ps, i, d))
+        if (m_ps.is_fixed(i, d))
           f[d] = 0.;
       fmax2 = std::max(fmax2, f.norm2());
     }
@@ -251,7 +240,7 @@ int System::run_sd(int n_steps) {
       break;
     for (int i = 0; i < m_ps.n_local(); ++i)
       for (int d = 0; d < 3; ++d)
-        if (!fixed(m_ps, i, d))
+        if (!m_ps.is_fixed(i, d))
           m_ps.pos[i][d] += std::clamp(p.gamma * m_ps.f[i][d], -p.max_displacement, p.max_displacement);
     m_forces_valid = false;
   }

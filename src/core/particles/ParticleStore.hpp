@@ -81,6 +81,16 @@ public:
 #endif
   }
 
+  /** Coordinate @p d of local particle @p i is fixed (EXTERNAL_FORCE's fix flags). */
+  bool is_fixed(int i, int d) const {
+#ifdef EXTERNAL_FORCE
+    return (fix[i] >> d) & 1;
+#else
+    (void)i, (void)d;
+    return false;
+#endif
+  }
+
   /** Local index of particle @p pid, or -1. */
   int index_of(int pid) const {
     return (pid >= 0 && pid < static_cast<int>(m_index.size())) ? m_index[pid] : -1;
