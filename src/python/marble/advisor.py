@@ -65,6 +65,16 @@ class Scene:
     """The measured scenes (bench/three_solvents.py, doc/choosing-a-model.md): a colloid of radius R in a cubic box L of one of the three solvents.
     Attributes: system, colloid, model, R, L, dt, n_solvent, solvent_mass."""
 
+    def _zero_momentum_and_keep(self, s, col):
+        """Give the solvent the opposite of the colloid's momentum (total zero)
+        and keep the system, the colloid and the solvent's size."""
+        sol = s.part.select(type=0)
+        p = col.mass * np.asarray(col.v) + np.sum(sol.v, axis=0)
+        sol.v = np.asarray(sol.v) - p / len(sol)
+        self.system, self.colloid = s, col
+        self.n_solvent = len(sol)
+        self.solvent_mass = float(len(sol))
+
     def __init__(self, model, R, L, seed, boundary="stick", warmup=5.0):
         self.model, self.R, self.L, self.boundary = model, float(R), float(L), boundary
         getattr(self, "_make_" + model)(seed)
@@ -87,12 +97,7 @@ class Scene:
         coupling = "tunable_slip" if self.boundary == "stick" else "dpd"
         col = add_marble(s, pos=[L / 2] * 3, radius=R, gamma=st["gamma_marble"], coupling=coupling)
         s.integrator.set_shardlow()
-        sol = s.part.select(type=0)
-        p = col.mass * np.asarray(col.v) + np.sum(sol.v, axis=0)
-        sol.v = np.asarray(sol.v) - p / len(sol)
-        self.system, self.colloid = s, col
-        self.n_solvent = len(sol)
-        self.solvent_mass = float(len(sol))
+        self._zero_momentum_and_keep(s, col)
 
     # (b) SRD solvent, stochastic (stick) or specular (slip) colloid
     def _make_srd(self, seed):
@@ -129,12 +134,7 @@ class Scene:
         # particle (7.6x the cost at R = 2; check_scene warns about it)
         s.non_bonded_inter[1, 1].contact.deactivate()
         s.non_bonded_inter[1, 1].dpd.deactivate()
-        sol = s.part.select(type=0)
-        p = col.mass * np.asarray(col.v) + np.sum(sol.v, axis=0)
-        sol.v = np.asarray(sol.v) - p / len(sol)
-        self.system, self.colloid = s, col
-        self.n_solvent = len(sol)
-        self.solvent_mass = float(len(sol))
+        self._zero_momentum_and_keep(s, col)
 
     @property
     def n_particles(self):
