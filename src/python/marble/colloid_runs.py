@@ -24,24 +24,36 @@ KT, RHO, DT, GAMMA_DPD = 1.0, 3.0, 0.01, 5.0
 QUICK = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
 
 
-def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0):
-    """Paper solvent in a cubic box of side L with one marble of radius R at the
-    centre; total momentum set to zero; `warmup` tau of equilibration."""
+def marble_box(L, R, gamma, seed, rho=RHO, gamma_dpd=GAMMA_DPD, kT=KT, dt=DT, marble_r_cut=1.0,
+               coupling="tunable_slip"):
+    """The marble paper's solvent (density rho, DPD gamma_dpd, w = 1 - r, r_c = 1,
+    no conservative force) in a periodic cube of side L with one neutrally
+    buoyant marble (add_marble defaults) of radius R and surface friction
+    ``gamma`` at the centre; total momentum zero, no equilibration.
+    Returns (system, colloid, solvent)."""
     system = System(box_l=[L] * 3)
-    system.time_step = DT
+    system.time_step = dt
     system.cell_system.skin = 0.4
     rng = np.random.default_rng(seed)
-    n = int(round(RHO * L ** 3))
-    system.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * np.sqrt(KT), type=0)
-    system.thermostat.set_dpd(kT=KT, seed=seed)
-    system.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA_DPD, k=1,
+    n = int(round(rho * L ** 3))
+    system.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * np.sqrt(kT), type=0)
+    system.thermostat.set_dpd(kT=kT, seed=seed)
+    system.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma_dpd, k=1,
                                                  r_cut=1.0)
-    colloid = add_marble(system, pos=[L / 2] * 3, radius=R, gamma=gamma, coupling=coupling)
+    colloid = add_marble(system, pos=[L / 2] * 3, radius=R, gamma=gamma, r_cut=marble_r_cut,
+                         coupling=coupling)
     solvent = system.part.select(type=0)
     # zero total momentum: a drifting centre of mass would add a constant to the
     # VACF and a ballistic t^2 term to the MSD
     p = colloid.mass * np.asarray(colloid.v) + np.sum(solvent.v, axis=0)
     solvent.v = np.asarray(solvent.v) - p / len(solvent)
+    return system, colloid, solvent
+
+
+def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0):
+    """Paper solvent in a cubic box of side L with one marble of radius R at the
+    centre (marble_box); total momentum set to zero; `warmup` tau of equilibration."""
+    system, colloid, solvent = marble_box(L, R, gamma, seed, coupling=coupling)
     if warmup > 0:
         system.integrator.run(int(round(warmup / DT)))
     return system, colloid, solvent

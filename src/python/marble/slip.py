@@ -572,21 +572,9 @@ def make_marble_box(marble, L=10.0, radius=2.0, gamma=5.0, rho=3.0, gamma_dpd=5.
     conservative force) in a periodic cube of side L with one neutrally buoyant
     marble (add_marble defaults) of surface friction ``gamma`` at the centre.
     Total momentum zero. Returns (system, colloid)."""
-    from .colloids import add_marble
-    system = marble.System(box_l=[L] * 3)
-    system.time_step = dt
-    system.cell_system.skin = 0.4
-    rng = np.random.default_rng(seed)
-    n = int(round(rho * L ** 3))
-    system.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * np.sqrt(kT), type=0)
-    system.thermostat.set_dpd(kT=kT, seed=seed)
-    system.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma_dpd, k=1,
-                                                 r_cut=1.0)
-    colloid = add_marble(system, pos=[L / 2] * 3, radius=radius, gamma=gamma,
-                         r_cut=marble_r_cut, coupling=coupling)
-    solvent = system.part.select(type=0)
-    p = colloid.mass * np.asarray(colloid.v) + np.sum(solvent.v, axis=0)
-    solvent.v = np.asarray(solvent.v) - p / len(solvent)
+    from .colloid_runs import marble_box
+    system, colloid, _ = marble_box(L, radius, gamma, seed, rho=rho, gamma_dpd=gamma_dpd, kT=kT,
+                                    dt=dt, marble_r_cut=marble_r_cut, coupling=coupling)
     return system, colloid
 
 
