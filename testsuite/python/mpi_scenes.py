@@ -193,6 +193,16 @@ def _wca_gas(L=7.0, seed=6):
     return s
 
 
+def _thermostat_state(s):
+    """What the Langevin and Brownian scenes compare: ids, positions,
+    velocities, forces (and angular velocities with ROTATION)."""
+    parts = s.part.all()
+    out = dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
+    if marble.has_features("ROTATION"):
+        out["omega"] = parts.omega_lab
+    return out
+
+
 def scene_langevin():
     """Langevin (per-particle gamma on a subset, rotation) + DPD: 1 vs 2 ranks."""
     s = _wca_gas()
@@ -203,11 +213,7 @@ def scene_langevin():
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=1.0, k=1.0, r_cut=1.2)
         s.thermostat.set_dpd(kT=1.3, seed=3)
     s.integrator.run(150)
-    parts = s.part.all()
-    out = dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
-    if marble.has_features("ROTATION"):
-        out["omega"] = parts.omega_lab
-    return s, out
+    return s, _thermostat_state(s)
 
 
 def scene_brownian():
@@ -217,11 +223,7 @@ def scene_brownian():
     s.integrator.set_brownian_dynamics()
     s.thermostat.set_brownian(kT=1.0, gamma=2.0, seed=23)
     s.integrator.run(150)
-    parts = s.part.all()
-    out = dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
-    if marble.has_features("ROTATION"):
-        out["omega"] = parts.omega_lab
-    return s, out
+    return s, _thermostat_state(s)
 
 
 if __name__ == "__main__":

@@ -10,16 +10,11 @@ import numpy as np
 import pytest
 
 import marble
+from stat_helpers import block_mean_err
 
 KT, GAMMA, DT, STEPS = 1.2, 2.0, 0.01, 1000
 N, N_BLOCKS = 5000, 20
 TIMES = [100, 250, 500, 1000]  # steps
-
-
-def block_mean_err(x):
-    blocks = np.array_split(np.arange(x.shape[-1]), N_BLOCKS)
-    b = np.array([x[..., i].mean(axis=-1) for i in blocks])
-    return b.mean(axis=0), b.std(axis=0, ddof=1) / np.sqrt(N_BLOCKS)
 
 
 @pytest.fixture(scope="module")
@@ -57,7 +52,7 @@ def test_msd_6Dt(run, group, gamma):
     D = KT / gamma
     for t in TIMES:
         dx = run["disp"][t][group]
-        mean, err = block_mean_err((dx**2).sum(axis=1))
+        mean, err = block_mean_err((dx**2).sum(axis=1), N_BLOCKS)
         theory = 6 * D * t * DT
         print(f"gamma {gamma}: t = {t * DT:.2f}: MSD = {mean:.4f} +- {err:.4f}, 6Dt = {theory:.4f}; "
               f"D = {mean / (6 * t * DT):.4f} +- {err / (6 * t * DT):.4f} (kT/gamma = {D})")
@@ -69,18 +64,18 @@ def test_drift_velocity(run):
     F = np.array([0.6, 0.0, -0.3])
     for t in TIMES:
         dx = run["disp"][t]["c"]
-        mean, err = block_mean_err(dx.T)
+        mean, err = block_mean_err(dx.T, N_BLOCKS)
         drift = F / GAMMA * t * DT
         print(f"t = {t * DT:.2f}: mean displacement {mean} +- {err}, F t / gamma = {drift}")
         assert np.all(np.abs(mean - drift) < 3 * err)
         # the spread around the drift is still 2 D t per component
-        var, verr = block_mean_err(((dx - drift) ** 2).T)
+        var, verr = block_mean_err(((dx - drift) ** 2).T, N_BLOCKS)
         assert np.all(np.abs(var - 2 * KT / GAMMA * t * DT) < 3 * verr)
 
 
 def test_maxwell_velocities(run):
     v = run["v"]  # samples, particle, 3 (F = 0: v is the Maxwell part only)
-    mean, err = block_mean_err((v**2).mean(axis=0).T)
+    mean, err = block_mean_err((v**2).mean(axis=0).T, N_BLOCKS)
     print(f"<v_d^2> = {mean} +- {err} (kT/m = {KT})")
     assert np.all(np.abs(mean - KT) < 3 * err)
 
@@ -88,6 +83,6 @@ def test_maxwell_velocities(run):
 @pytest.mark.skipif(not marble.has_features("ROTATION"), reason="needs ROTATION")
 def test_rotation_kT(run):
     w = run["w"]
-    mean, err = block_mean_err((1.5 * w**2).mean(axis=0).T)
+    mean, err = block_mean_err((1.5 * w**2).mean(axis=0).T, N_BLOCKS)
     print(f"<I omega_d^2> = {mean} +- {err} (kT = {KT})")
     assert np.all(np.abs(mean - KT) < 3 * err)

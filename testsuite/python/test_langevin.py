@@ -18,18 +18,12 @@ import numpy as np
 import pytest
 
 import marble
+from stat_helpers import block_mean_err
 
 KT, GAMMA, GAMMA_ROT, DT = 1.5, 1.0, 1.5, 0.005
 N_GROUP, N_BLOCKS = 1000, 20
 EVERY, N_SAMPLES, WARMUP = 10, 3000, 1000   # samples every 0.05; 150 time units
 LAGS = [10, 20, 30, 40]                     # in samples: t = 0.5, 1, 1.5, 2 (C: /5)
-
-
-def block_mean_err(x):
-    """Mean and error of the mean of per-particle values x[..., n_particles]."""
-    blocks = np.array_split(np.arange(x.shape[-1]), N_BLOCKS)
-    b = np.array([x[..., i].mean(axis=-1) for i in blocks])
-    return b.mean(axis=0), b.std(axis=0, ddof=1) / np.sqrt(N_BLOCKS)
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +71,7 @@ def gammas():
 def test_kT_per_component(run, g):
     m = run["mass"][g]
     x = m * run["v"][:, run["sel"][g], :] ** 2       # time, particle, component
-    mean, err = block_mean_err(x.mean(axis=0).T)      # component, particle -> per component
+    mean, err = block_mean_err(x.mean(axis=0).T, N_BLOCKS)      # component, particle -> per component
     print(f"group {g}: kT per component {mean} +- {err}")
     for d in range(3):
         assert abs(mean[d] - KT) < 3 * err[d], (g, d, mean[d], err[d])
@@ -86,7 +80,7 @@ def test_kT_per_component(run, g):
 @pytest.mark.skipif(not marble.has_features("ROTATION"), reason="needs ROTATION")
 def test_kT_rotation(run):
     x = 2.0 * run["w"][:, run["sel"]["A"], :] ** 2
-    mean, err = block_mean_err(x.mean(axis=0).T)
+    mean, err = block_mean_err(x.mean(axis=0).T, N_BLOCKS)
     print(f"rotation: kT per component {mean} +- {err}")
     for d in range(3):
         assert abs(mean[d] - KT) < 3 * err[d]
