@@ -66,6 +66,23 @@ class SceneCheck(unittest.TestCase):
         self.assertAlmostEqual(w["value"], 80 * 0.01 * 2 * 3 * 4 * np.pi / 30 / 3.0, places=2)
         self.assertIn("3.3-3.5", w["message"])
 
+    def test_langevin_friction(self):
+        rng = np.random.default_rng(3)
+        s = marble.System(box_l=[6.0] * 3)
+        s.time_step = 0.01
+        s.part.add(pos=rng.uniform(0, 6, size=(20, 3)))
+        s.thermostat.set_langevin(kT=1.0, gamma=10.0, seed=1)  # a = 0.1: at the limit, quiet
+        self.assertNotIn("langevin_friction", codes(s))
+        s.part.by_id(7).gamma = 30.0                          # a = 0.3 on particle 7
+        w = codes(s)["langevin_friction"]
+        self.assertAlmostEqual(w["value"], 0.3)
+        self.assertEqual(w["limit"], 0.1)
+        self.assertIn("particle 7", w["message"])
+        # -ln(0.7)/0.3 - 1 = 18.9 %
+        self.assertIn(f"{100 * (-np.log(0.7) / 0.3 - 1):.3g} % too fast", w["message"])
+        s.part.by_id(7).gamma = 150.0                         # a = 1.5: oscillating relaxation
+        self.assertIn("alternating sign", codes(s)["langevin_friction"]["message"])
+
     @skipIfMissingFeatures("MARBLE")
     def test_colloid_rules(self):
         from marble.colloids import add_marble
