@@ -34,6 +34,17 @@ void bind_cell_system(py::class_<System> &cls) {
   // ids this rank owns (not collective; for tests and diagnostics)
   cls.def("local_ids", [](System &s) { return s.particles().ids_sorted(); });
   cls.def("n_cells", [](System &s) { return s.cells().n_cells(); });
+  // this rank's ghosts (periodic images and other ranks' particles; not collective)
+  cls.def("n_ghosts", [](System &s) { return s.particles().n_ghost(); });
+  // this rank's MPI traffic counters since the last reset (bench/mpi_weak_model.py)
+  cls.def("comm_stats", [](System &s) {
+    auto const &c = s.comm().stats();
+    py::dict d;
+    d["allreduce"] = c.allreduce, d["alltoallv"] = c.alltoallv, d["other"] = c.other;
+    d["messages"] = c.messages, d["bytes"] = c.bytes;
+    return d;
+  });
+  cls.def("reset_comm_stats", [](System &s) { s.comm().reset_stats(); });
   cls.def("max_cut", &System::max_cutoff);
   cls.def("verlet_pairs", [](System &s) {
     s.ensure_lists();

@@ -56,33 +56,37 @@ template <> MPI_Datatype mpi_type<long long>() { return MPI_LONG_LONG; }
 template <> MPI_Datatype mpi_type<int>() { return MPI_INT; }
 
 // In-place allreduce of n values (nothing to do on one rank).
-template <typename T> void allreduce(MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
-  if (size > 1 && n > 0)
+template <typename T> void allreduce(long long &count, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
+  if (size > 1 && n > 0) {
+    ++count;
     MPI_Allreduce(MPI_IN_PLACE, x, n, mpi_type<T>(), op, comm);
+  }
 }
 } // namespace
 
-void Communicator::sum_inplace(double *x, int n) const { allreduce(m_comm, m_size, x, n, MPI_SUM); }
-void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(double *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
 double Communicator::max(double x) const {
-  allreduce(m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 double Communicator::min(double x) const {
-  allreduce(m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 int Communicator::max(int x) const {
-  allreduce(m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 int Communicator::min(int x) const {
-  allreduce(m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {
-  if (m_size > 1 && n > 0)
+  if (m_size > 1 && n > 0) {
+    ++m_stats.other;
     MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, m_comm);
+  }
 }
 void Communicator::bcast(std::vector<char> &data, int root) const {
   if (m_size == 1)
@@ -101,8 +105,10 @@ void Communicator::bcast(std::string &s, int root) const {
 }
 std::vector<int> Communicator::allgather(int x) const {
   std::vector<int> out(m_size, x);
-  if (m_size > 1)
+  if (m_size > 1) {
+    ++m_stats.other;
     MPI_Allgather(&x, 1, MPI_INT, out.data(), 1, MPI_INT, m_comm);
+  }
   return out;
 }
 std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local) const {
@@ -122,8 +128,14 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
   if (m_size == 1)
     return {send.empty() ? std::vector<char>{} : send[0]};
   std::vector<int> sc(m_size, 0), rc(m_size, 0), sd(m_size, 0), rd(m_size, 0);
-  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
+  ++m_stats.alltoallv;
+  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r) {
     sc[r] = static_cast<int>(send[r].size());
+    if (r != m_rank && sc[r] > 0) {
+      ++m_stats.messages;
+      m_stats.bytes += sc[r];
+    }
+  }
   MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, m_comm);
   for (int r = 1; r < m_size; ++r) {
     sd[r] = sd[r - 1] + sc[r - 1];
@@ -141,8 +153,10 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
   return out;
 }
 void Communicator::barrier() const {
-  if (m_size > 1)
+  if (m_size > 1) {
+    ++m_stats.other;
     MPI_Barrier(m_comm);
+  }
 }
 void Communicator::throw_if_any(std::string const &local_error) const {
   if (m_size == 1) {

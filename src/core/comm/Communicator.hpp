@@ -19,6 +19,15 @@
 
 namespace Marble {
 
+/** Traffic counters of one Communicator (bench/mpi_weak_model.py; not collective). */
+struct CommStats {
+  long long allreduce = 0;  ///< reductions (sum/max/min) on more than one rank
+  long long alltoallv = 0;  ///< alltoallv exchanges (each: one MPI_Alltoall of counts + one MPI_Alltoallv)
+  long long other = 0;      ///< broadcasts, allgathers, barriers
+  long long messages = 0;   ///< non-empty alltoallv blocks sent to other ranks
+  long long bytes = 0;      ///< alltoallv bytes sent to other ranks
+};
+
 class Communicator {
 public:
   /** MPI_COMM_WORLD if MPI is initialised, else a group of one. */
@@ -102,8 +111,13 @@ public:
    * rank (so no rank is left waiting in a collective call). */
   void throw_if_any(std::string const &local_error) const;
 
+  /** Counters of the collective calls and alltoallv traffic since the last reset. */
+  CommStats const &stats() const { return m_stats; }
+  void reset_stats() const { m_stats = {}; }
+
 private:
   int m_rank = 0, m_size = 1;
+  mutable CommStats m_stats;
 #ifdef MARBLE_HAVE_MPI
   MPI_Comm m_comm = MPI_COMM_SELF;
 #endif

@@ -1,0 +1,97 @@
+# labels: python mpi
+"""The halo that bench/mpi_weak_model.py extrapolates from: on 1, 2 and 4 ranks
+every rank's ghost count (`_core.n_ghosts()`) equals an independent count
+from the particle positions of the rule in doc/parallel.md (other ranks'
+particles whose image lies within r = max cutoff + skin of the domain, all
+sides; the rank's own images with a lexicographically positive shift only),
+and the traffic counters (`_core.comm_stats()`) count two ghost exchanges per
+step on several ranks and nothing on one."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import pytest
+
+import marble
+
+MPIEXEC = shutil.which("mpiexec")
+pytestmark = [
+    pytest.mark.skipif(MPIEXEC is None, reason="no mpiexec"),
+    pytest.mark.skipif("MPI" not in marble._marble.build_options(), reason="built without MPI"),
+    pytest.mark.skipif(not marble.has_features("DPD"), reason="missing feature DPD"),
+]
+
+SCRIPT = r"""
+import itertools, json, sys
+import numpy as np
+import marble
+L, r_cut, skin = 9.0, 1.0, 0.4
+rng = np.random.default_rng(3)
+s = marble.System(box_l=[L] * 3)
+s.time_step = 0.01
+s.cell_system.skin = skin
+s.part.add(pos=rng.random((int(3 * L**3), 3)) * L, v=rng.normal(size=(int(3 * L**3), 3)))
+s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=r_cut)
+s.thermostat.set_dpd(kT=1.0, seed=3)
+s.integrator.run(0)                       # lists built at these positions
+core = s._core
+ghosts = core.n_ghosts()
+pos = np.mod(np.asarray(s.part.all().pos), L)   # collective read
+grid = np.asarray(s.cell_system.node_grid)
+dl = L / grid
+lo = np.asarray(s.cell_system.local_domain()[0])
+r = r_cut + skin
+owner = np.floor(pos / dl).astype(int)
+mine = np.all(owner == np.floor((lo + 0.5 * dl) / dl).astype(int), axis=1)
+count = 0
+for sh in itertools.product((-1, 0, 1), repeat=3):
+    if sh == (0, 0, 0):
+        q, sel = pos, ~mine                # other ranks' particles, unshifted
+    else:
+        positive = next(c for c in sh if c != 0) > 0
+        q = pos + L * np.asarray(sh)
+        sel = np.ones(len(pos), bool) if positive else ~mine
+    inside = np.all((q >= lo - r) & (q < lo + dl + r), axis=1)
+    in_domain = np.all((q >= lo) & (q < lo + dl), axis=1)
+    count += int(np.count_nonzero(sel & inside & ~in_domain))
+core.reset_comm_stats()
+s.integrator.run(10)
+out = dict(rank=marble.mpi_rank(), ghosts=ghosts, expected=count, stats=dict(core.comm_stats()))
+with open(sys.argv[1] + f".{marble.mpi_rank()}", "w") as f:
+    json.dump(out, f)
+"""
+
+
+def run(ranks):
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "scene.py")
+        with open(path, "w") as f:
+            f.write(SCRIPT)
+        p = subprocess.run([MPIEXEC, "-n", str(ranks), sys.executable, path, os.path.join(d, "o")],
+                           env=env, capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stdout + p.stderr
+        res = []
+        for k in range(ranks):
+            with open(os.path.join(d, f"o.{k}")) as f:
+                res.append(json.load(f))
+        return res
+
+
+@pytest.mark.parametrize("ranks", [1, 2, 4])
+def test_ghosts_and_traffic(ranks):
+    for rec in run(ranks):
+        assert rec["ghosts"] == rec["expected"], rec
+        st = rec["stats"]
+        if ranks == 1:
+            assert st == dict(allreduce=0, alltoallv=0, other=0, messages=0, bytes=0), st
+        else:
+            # ghost positions/velocities out and ghost forces back: >= 2 exchanges per step,
+            # each sending to every neighbouring rank (1 on 2 ranks, 3 on a 2 x 2 x 1 grid)
+            assert st["alltoallv"] >= 2 * 10, st
+            assert st["messages"] >= 2 * 10 * (ranks - 1), st
+            assert st["bytes"] > 0 and st["allreduce"] >= 10, st
