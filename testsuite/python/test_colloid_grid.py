@@ -27,9 +27,8 @@ import pytest
 
 import marble
 
-pytestmark = pytest.mark.skipif(
-    not marble.has_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS"),
-    reason="needs DPD, HAT, CONTACT, LUBRICATION, MASS")
+if not marble.has_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS"):
+    pytest.skip("needs DPD, HAT, CONTACT, LUBRICATION, MASS", allow_module_level=True)
 
 sus = marble.suspensions
 

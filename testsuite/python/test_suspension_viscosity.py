@@ -10,8 +10,8 @@ import pytest
 import marble
 from marble.viscosity import reverse_poiseuille
 
-pytestmark = pytest.mark.skipif(not marble.has_features("DPD", "MASS", "EXTERNAL_FORCE"),
-                                reason="needs DPD, MASS, EXTERNAL_FORCE")
+if not marble.has_features("DPD", "MASS", "EXTERNAL_FORCE"):
+    pytest.skip("needs DPD, MASS, EXTERNAL_FORCE", allow_module_level=True)
 
 
 def fluid(masses):
