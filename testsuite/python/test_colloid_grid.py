@@ -195,6 +195,16 @@ def test_explicit_types_and_bad_input():
     assert s.cell_system.get_state()["large_range_types"] == []
 
 
+def test_pickle_keeps_the_choice():
+    import pickle
+    s, _ = suspension(None)
+    s.integrator.run(0)
+    s2 = pickle.loads(pickle.dumps(s))
+    assert s2.cell_system.large_range_types is None
+    s2.integrator.run(1)
+    assert s2.cell_system.get_state()["large_range_types"] == []
+
+
 MPIEXEC = shutil.which("mpiexec")
 
 
