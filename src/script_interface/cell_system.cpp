@@ -46,6 +46,29 @@ void bind_cell_system(py::class_<System> &cls) {
   });
   cls.def("reset_comm_stats", [](System &s) { s.comm().reset_stats(); });
   cls.def("max_cut", &System::max_cutoff);
+  // large-range types (cells/CellSystem.hpp): mode -1 auto, 0 off, 1 the given types
+  cls.def("set_large_range_mode", [](System &s, int mode, std::vector<int> const &types) {
+    std::vector<char> flags;
+    for (int t : types) {
+      if (t < 0 || t >= Marble::InteractionTable::max_type)
+        value_error("parameter 'large_range_types' must hold particle types in [0, " +
+                    std::to_string(Marble::InteractionTable::max_type) + "), got " + std::to_string(t));
+      if (static_cast<int>(flags.size()) <= t)
+        flags.resize(static_cast<std::size_t>(t) + 1, 0);
+      flags[static_cast<std::size_t>(t)] = 1;
+    }
+    s.set_large_range_mode(mode, flags);
+  });
+  cls.def("large_range_mode", &System::large_range_mode);
+  // the large-range types and ranges (cutoff + skin) of the last list rebuild (not collective)
+  cls.def("large_range_state", [](System &s) {
+    std::vector<int> types;
+    auto const &w = s.cells().large_range_types();
+    for (std::size_t t = 0; t < w.size(); ++t)
+      if (w[t])
+        types.push_back(static_cast<int>(t));
+    return py::make_tuple(types, s.cells().range(), s.cells().range_ll(), s.cells().range_ls());
+  });
   cls.def("verlet_pairs", [](System &s) {
     s.ensure_lists();
     auto const &ps = s.particles();

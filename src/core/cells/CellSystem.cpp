@@ -162,12 +162,14 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
     return;
   auto const dom = local_domain(box);
   Grid const g(dom.first, dom.second, m_range);
-  std::vector<int> cell(n), count(g.n_total() + 1, 0);
+  // large-range locals go last (one extra bucket after the cells)
+  std::vector<int> cell(n), count(g.n_total() + 2, 0);
+  bool const any_wide = !m_wide.empty();
   for (int i = 0; i < n; ++i) {
-    cell[i] = g.local_index(ps.pos[i]);
+    cell[i] = (any_wide && wide(ps.type[i])) ? g.n_total() : g.local_index(ps.pos[i]);
     ++count[cell[i] + 1];
   }
-  for (int c = 0; c < g.n_total(); ++c)
+  for (int c = 0; c <= g.n_total(); ++c)
     count[c + 1] += count[c];
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i)
@@ -191,27 +193,36 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   int const n = ps.n_local();
   auto const &L = box.length();
   auto const g = node_grid(box);
+  bool const any_wide = !m_wide.empty();
+  double const r_wide = std::max(m_range_ll, m_range_ls);
+  double const r_max = std::max(m_range, r_wide);
   std::array<int, 3> nimg{};
   for (int d = 0; d < 3; ++d)
-    nimg[d] = box.periodic(d) ? static_cast<int>(std::ceil(m_range / L[d])) : 0;
+    nimg[d] = box.periodic(d) ? static_cast<int>(std::ceil(r_max / L[d])) : 0;
   // One rank: only images with a positive shift (build_pairs keeps the
   // local-ghost pair whose ghost shift is positive, so the others would only
   // cost ghost updates and force reductions). Several ranks: every shift, since
-  // other ranks need the images on all sides.
+  // other ranks need the images on all sides. Large-range particles: every
+  // shift (their pairs with small particles are listed from the large side).
   std::vector<Vector3d> shifts;
+  std::vector<char> positive;
   for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
     for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
       for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
         Vector3d const sh{sx * L[0], sy * L[1], sz * L[2]};
-        if (par || shift_positive(sh))
+        bool const pos = shift_positive(sh);
+        if (par || pos || any_wide) {
           shifts.push_back(sh);
+          positive.push_back(pos ? 1 : 0);
+        }
       }
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
-  double const r = m_range;
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
+    bool const w = any_wide && wide(ps.type[i]);
+    double const r = w ? r_wide : m_range;
     if (replicated(ps.type[i])) {
       // colloids: a copy on every other rank; their pairs are found by
       // Colloids (own periodic images included), never through ghosts
@@ -220,7 +231,10 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           m_send[q].push_back({i, Vector3d{0., 0., 0.}});
       continue;
     }
-    for (auto const &sh : shifts) {
+    for (std::size_t k = 0; k < shifts.size(); ++k) {
+      auto const &sh = shifts[k];
+      if (!par && !w && !positive[k])
+        continue;
       // cheap reject: an image farther than the range from the box on some axis
       if (sh[0] != 0. && (p[0] + sh[0] < -r || p[0] + sh[0] >= L[0] + r))
         continue;
@@ -245,7 +259,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       }
       if (none)
         continue;
-      bool const own_image = shift_positive(sh);
+      bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : positive[k] != 0;
       for (int cx = lo[0]; cx <= hi[0]; ++cx)
         for (int cy = lo[1]; cy <= hi[1]; ++cy)
           for (int cz = lo[2]; cz <= hi[2]; ++cz) {
@@ -296,26 +310,40 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   int const n_all = ps.size(), n_local = ps.n_local();
   int const n_cells = g.n_total();
   m_n_local_at_build = n_local;
+  // Large-range particles are not in this grid (cell -1): their locals were
+  // sorted last (sort_locals), so the small locals are [0, n_small_local).
+  bool const any_wide = !m_wide.empty();
+  m_wide_locals.clear();
   std::vector<int> cell(n_all);
   auto &start = m_cell_start;
   auto &members = m_cell_members;
   start.assign(n_cells + 1, 0);
-  members.resize(n_all);
+  int n_members = 0;
   for (int i = 0; i < n_all; ++i) {
+    if (any_wide && wide(ps.type[i])) {
+      cell[i] = -1;
+      if (i < n_local)
+        m_wide_locals.push_back(i);
+      continue;
+    }
     cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
     ++start[cell[i] + 1];
+    ++n_members;
   }
+  int const n_small_local = n_local - static_cast<int>(m_wide_locals.size());
+  members.resize(n_members);
   for (int c = 0; c < n_cells; ++c)
     start[c + 1] += start[c];
   std::vector<int> fill(start.begin(), start.end() - 1);
-  for (int i = 0; i < n_local; ++i)
+  for (int i = 0; i < n_small_local; ++i)
     members[fill[cell[i]]++] = i;
   std::vector<int> ghost_begin(fill); // locals of cell c: [start[c], ghost_begin[c])
   for (int i = n_local; i < n_all; ++i)
-    members[fill[cell[i]]++] = i;
+    if (cell[i] >= 0)
+      members[fill[cell[i]]++] = i;
   // Cell-ordered coordinates, one array per axis: contiguous reads below.
-  std::vector<double> mx(n_all + 1), my(n_all + 1), mz(n_all + 1);
-  for (int k = 0; k < n_all; ++k) {
+  std::vector<double> mx(n_members + 1), my(n_members + 1), mz(n_members + 1);
+  for (int k = 0; k < n_members; ++k) {
     auto const &p = ps.pos[members[k]];
     mx[k] = p[0];
     my[k] = p[1];
@@ -340,10 +368,10 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   ranges.reserve(27);
   std::size_t n_pairs = 0;
   m_pairs.resize(std::max<std::size_t>(1024, static_cast<std::size_t>(n_local) * 24));
-  for (int i_begin = 0; i_begin < n_local;) {
+  for (int i_begin = 0; i_begin < n_small_local;) {
     int const ci = cell[i_begin];
     int i_end = i_begin;
-    while (i_end < n_local && cell[i_end] == ci)
+    while (i_end < n_small_local && cell[i_end] == ci)
       ++i_end;
     ranges.clear();
     for (int const off : offsets) {
@@ -411,6 +439,113 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
                                  }),
                   m_pairs.end());
   }
+  if (any_wide)
+    build_wide_pairs(ps, box, n_small_local, ghost_begin);
+}
+
+// Pairs with large-range particles, appended after the solvent-grid pairs:
+// (b) among them, from a coarse grid over their locals and ghosts: local-local
+// with i < j, local-(own image) with a positive shift, local-(other rank's
+// particle) on the rank owning the smaller id, as in build_pairs; (c) with
+// small particles: for each large-range particle (local or ghost, in index
+// order) the small locals of the solvent cells within range_ls, listed as
+// (large, small) for a local and (small, large) for a ghost. Since the large
+// particles have ghosts of every shift out to range_ls and the small partner
+// is always a local, every large-small pair is listed exactly once.
+void CellSystem::build_wide_pairs(ParticleStore const &ps, BoxGeometry const &box,
+                                  int n_small_local, std::vector<int> const &ghost_begin) {
+  int const n_all = ps.size(), n_local = ps.n_local();
+  std::vector<int> wide_all(m_wide_locals);
+  for (int i = n_local; i < n_all; ++i)
+    if (wide(ps.type[i]))
+      wide_all.push_back(i);
+  // (b) large-large
+  if (m_range_ll > 0. && !m_wide_locals.empty()) {
+    auto const dom = local_domain(box);
+    Grid const g(dom.first, dom.second, m_range_ll);
+    int const n_cells = g.n_total();
+    std::vector<int> start(n_cells + 1, 0), cell(wide_all.size());
+    for (std::size_t k = 0; k < wide_all.size(); ++k) {
+      int const i = wide_all[k];
+      cell[k] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
+      ++start[cell[k] + 1];
+    }
+    for (int c = 0; c < n_cells; ++c)
+      start[c + 1] += start[c];
+    std::vector<int> fill(start.begin(), start.end() - 1), members(wide_all.size());
+    for (std::size_t k = 0; k < wide_all.size(); ++k) // locals first in each cell, ascending
+      members[static_cast<std::size_t>(fill[cell[k]]++)] = wide_all[k];
+    double const range2 = m_range_ll * m_range_ll;
+    auto const *const owner = ps.ghost_owner.data();
+    for (std::size_t k = 0; k < m_wide_locals.size(); ++k) {
+      int const i = m_wide_locals[k];
+      int const ci = cell[k];
+      std::array<int, 3> c{ci % g.ext[0], (ci / g.ext[0]) % g.ext[1], ci / (g.ext[0] * g.ext[1])};
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            int const cj = ((c[2] + dz) * g.ext[1] + (c[1] + dy)) * g.ext[0] + (c[0] + dx);
+            for (int q = start[cj]; q < start[cj + 1]; ++q) {
+              int const j = members[static_cast<std::size_t>(q)];
+              if (j < n_local) {
+                if (j <= i)
+                  continue;
+              } else {
+                int const o = owner[j - n_local];
+                if (o >= 0 ? !shift_positive(ps.ghost_shift[j - n_local]) : ps.id[i] > ps.id[j])
+                  continue;
+              }
+              if ((ps.pos[i] - ps.pos[j]).norm2() < range2)
+                m_pairs.push_back({i, j});
+            }
+          }
+    }
+  }
+  // (c) large-small, through the solvent grid (small locals only)
+  if (m_range_ls > 0. && !m_cell_start.empty() && n_small_local > 0) {
+    Grid const &g = m_grid;
+    double const r = m_range_ls, r2 = r * r;
+    auto const &start = m_cell_start;
+    auto const &members = m_cell_members;
+    for (int const p : wide_all) {
+      Vector3d const c = ps.pos[p];
+      std::array<int, 3> lo{}, hi{};
+      bool none = false;
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::max(1, g.coord(c[d] - r, d));
+        hi[d] = std::min(g.n[d], g.coord(c[d] + r, d));
+        none |= lo[d] > hi[d];
+      }
+      if (none)
+        continue;
+      // distance^2 from c to the slab of cell x along axis d
+      auto gap2 = [&](int x, int d) {
+        double const a = g.lo[d] + (x - 1) * g.size[d], b = a + g.size[d];
+        double const e = c[d] < a ? a - c[d] : (c[d] > b ? c[d] - b : 0.);
+        return e * e;
+      };
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        double const gz = gap2(z, 2);
+        if (gz >= r2)
+          continue;
+        for (int y = lo[1]; y <= hi[1]; ++y) {
+          double const gy = gz + gap2(y, 1);
+          if (gy >= r2)
+            continue;
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            if (gy + gap2(x, 0) >= r2)
+              continue;
+            int const cc = (z * g.ext[1] + y) * g.ext[0] + x;
+            for (int q = start[cc]; q < ghost_begin[cc]; ++q) {
+              int const s = members[q];
+              if ((ps.pos[s] - c).norm2() < r2)
+                m_pairs.push_back(p < n_local ? std::array<int, 2>{p, s} : std::array<int, 2>{s, p});
+            }
+          }
+        }
+      }
+    }
+  }
 }
 
 void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_cut) {
@@ -426,6 +561,16 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
           "than " + std::to_string(static_cast<int>(max_images)) + " box lengths along axis " +
           std::to_string(d) + " (" + std::to_string(box.length()[d]) +
           "): reduce the cutoff or enlarge the box");
+  bool const any_wide = !m_wide.empty();
+  m_range_ll = any_wide && m_cut_ll > 0. ? m_cut_ll + m_skin : 0.;
+  m_range_ls = any_wide && m_cut_ls > 0. ? m_cut_ls + m_skin : 0.;
+  for (int d = 0; d < 3; ++d)
+    if (!(std::max(m_range_ll, m_range_ls) <= max_images * box.length()[d]))
+      throw Utils::RuntimeError(
+          "the large-range interaction range " +
+          std::to_string(std::max(m_range_ll, m_range_ls)) + " (largest colloid cutoff + skin) is "
+          "more than " + std::to_string(static_cast<int>(max_images)) + " box lengths along axis " +
+          std::to_string(d) + ": reduce the cutoff or enlarge the box");
   ps.clear_ghosts();
   m_range = range;
   for (int i = 0; i < ps.n_local(); ++i)

@@ -18,6 +18,18 @@
 // owns the smaller id, so every pair is computed once; the force on such a
 // ghost (and the force/torque on a colloid copy) is sent back to its owner
 // by reduce_ghost_forces(). docs: doc/parallel.md.
+//
+// Large-range types (colloids of a suspension, doc/architecture.md "Two cell
+// grids"): set_large_range() names types whose pairs reach much farther than
+// the solvent's. They are kept out of the solvent grid (whose cells then have
+// the solvent's range) and get a ghost layer of their own, wider range. The
+// one pair list is the union of (a) the solvent-grid pairs of all other types
+// (built exactly as without large-range types), (b) pairs among large-range
+// particles from a coarse grid over those particles only, and (c) large-small
+// pairs found by scanning the solvent cells within the large-small range
+// around each large-range particle (locals and ghosts of every shift): the
+// small partner is always a local, so each pair is listed once, on the small
+// particle's rank.
 #include "box/BoxGeometry.hpp"
 #include "comm/Communicator.hpp"
 #include "particles/ParticleStore.hpp"
@@ -60,6 +72,22 @@ public:
 
   // --- domain decomposition ---
   void set_comm(Communicator const *comm) { m_comm = comm; }
+  /** Large-range types (@p types[t] != 0; empty: none) with the largest
+   * cutoff among their pairs (@p cut_ll) and between them and the other types
+   * (@p cut_ls), skin not included. See the file comment. */
+  void set_large_range(std::vector<char> const &types, double cut_ll, double cut_ls) {
+    bool const any = std::find(types.begin(), types.end(), char(1)) != types.end();
+    std::vector<char> t = any ? types : std::vector<char>{};
+    if (t != m_wide || cut_ll != m_cut_ll || cut_ls != m_cut_ls)
+      m_valid = false;
+    m_wide = std::move(t);
+    m_cut_ll = any ? cut_ll : 0.;
+    m_cut_ls = any ? cut_ls : 0.;
+  }
+  std::vector<char> const &large_range_types() const { return m_wide; }
+  /** Pair range (cutoff + skin) among large-range types and to the others (0: none). */
+  double range_ll() const { return m_range_ll; }
+  double range_ls() const { return m_range_ls; }
   /** Types whose particles every rank gets a copy of (colloids). */
   void set_replicated_types(std::vector<char> const &t) {
     m_replicated = t;
@@ -98,6 +126,8 @@ public:
             if (m_cell_members[k] < m_n_local_at_build)
               fn(m_cell_members[k]);
         }
+    for (int i : m_wide_locals) // not in the solvent grid: all of them (a superset)
+      fn(i);
   }
 
   /** Regular grid over the domain plus one layer of ghost cells on each side. */
@@ -142,6 +172,11 @@ private:
     return type >= 0 && type < static_cast<int>(m_replicated.size()) && m_replicated[type];
   }
   bool parallel() const { return m_comm && m_comm->parallel(); }
+  bool wide(int type) const {
+    return type >= 0 && type < static_cast<int>(m_wide.size()) && m_wide[type];
+  }
+  void build_wide_pairs(ParticleStore const &ps, BoxGeometry const &box, int n_small_local,
+                        std::vector<int> const &ghost_begin);
   void sort_locals(ParticleStore &ps, BoxGeometry const &box);
   void build_pairs(ParticleStore const &ps, BoxGeometry const &box);
 
@@ -156,6 +191,10 @@ private:
   int m_n_local_at_build = 0;
   Communicator const *m_comm = nullptr;
   std::vector<char> m_replicated;
+  // large-range types: per-type flag, cutoffs (no skin), ranges (with skin)
+  std::vector<char> m_wide;
+  double m_cut_ll = 0., m_cut_ls = 0., m_range_ll = 0., m_range_ls = 0.;
+  std::vector<int> m_wide_locals; // their local indices after the last rebuild
   // ghosts of this rank's particles on other ranks: m_send[r] (list order =
   // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
   std::vector<std::vector<SendEntry>> m_send;

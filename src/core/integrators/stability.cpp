@@ -108,13 +108,15 @@ FrictionRates friction_rates(System &sys,
         continue;
       double const ma = st.m_min[a], mb = st.m_min[b];
       double const M = dpd_mass_factor(ma, mb);
+      // with an offset (seed-004 colloid-solvent DPD) the weights act on the
+      // gap, over the shell offset < r < offset + r_cut (the core holds no beads)
       double g = p.radial.gamma *
                  weight_integral([&](double r) { return p.radial.weight(r); },
-                                 p.radial.r_cut, 0.);
+                                 p.radial.r_cut, p.offset);
 #ifdef TRANS_DPD
       g += p.trans.gamma *
            weight_integral([&](double r) { return p.trans.weight(r); },
-                           p.trans.r_cut, 0.);
+                           p.trans.r_cut, p.offset);
 #endif
       double const rate = g * M * (1. / ma + 1. / mb) * st.count[b] / V;
       bead[a] += rate;

@@ -82,6 +82,73 @@ public:
           c = std::max(c, m_p[i * m_n + j].max_cut);
     return c;
   }
+  /** Range (largest cutoff) of type pair (i, j) in the main Verlet list; 0
+   * for pairs of large types (served by the colloid list or the walls). */
+  double pair_range(int i, int j) const {
+    return (is_large(i) || is_large(j)) ? 0. : m_p[i * m_n + j].max_cut;
+  }
+  /** A split of the main list's types into small and large-range ones
+   * (cells/CellSystem.hpp): the largest cutoff among small types, among
+   * large-range types, and between the two. */
+  struct RangeSplit {
+    std::vector<char> large; // empty: no split
+    double cut_small = 0., cut_ll = 0., cut_ls = 0.;
+  };
+  /** The ranges of the split with large-range types @p large. */
+  RangeSplit range_split(std::vector<char> const &large) const {
+    RangeSplit r;
+    r.large = large;
+    r.large.resize(m_n, 0);
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j) {
+        double const c = pair_range(i, j);
+        bool const li = r.large[i] != 0, lj = r.large[j] != 0;
+        double &dst = (li && lj) ? r.cut_ll : ((li || lj) ? r.cut_ls : r.cut_small);
+        dst = std::max(dst, c);
+      }
+    return r;
+  }
+  /** The automatic split (doc/architecture.md, "Two cell grids"), given the
+   * number of particles of each type (@p count, all ranks): with b the
+   * smallest positive pair range, a type is large-range if its own pairs
+   * reach farther than 2 b (or, without pairs of its own, its pairs with
+   * another type do) and it holds at most a quarter of the particles; the
+   * split is kept only if the small types' range stays positive and the
+   * large-range ranges exceed it by more than 1.5 times. Otherwise (and
+   * for every scene of one range scale) no split: an empty @c large. */
+  RangeSplit auto_range_split(std::vector<double> const &count) const {
+    double b = 0., total = 0.;
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j) {
+        double const c = pair_range(i, j);
+        if (c > 0. && (b == 0. || c < b))
+          b = c;
+      }
+    for (double c : count)
+      total += c;
+    std::vector<char> large(m_n, 0);
+    bool any = false;
+    for (int t = 0; t < m_n && b > 0.; ++t) {
+      if (is_large(t))
+        continue;
+      double reach = 0.;
+      for (int j = 0; j < m_n; ++j)
+        reach = std::max(reach, pair_range(t, j));
+      double const self = pair_range(t, t);
+      double const n_t = t < static_cast<int>(count.size()) ? count[t] : 0.;
+      if ((self > 2. * b || (self == 0. && reach > 2. * b)) && n_t <= 0.25 * total) {
+        large[t] = 1;
+        any = true;
+      }
+    }
+    RangeSplit r;
+    if (!any)
+      return r;
+    r = range_split(large);
+    if (!(r.cut_small > 0. && std::max(r.cut_ll, r.cut_ls) > 1.5 * r.cut_small))
+      return RangeSplit{};
+    return r;
+  }
   /** Pair-loop kernels active for some type pair (bits: pair_loop_bit<K>). */
   unsigned active_pair_kernels() const {
     unsigned mask = 0;

@@ -1,6 +1,7 @@
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -133,7 +134,7 @@ void System::ensure_lists() {
     cut = 1.;
 #endif
   if (!m_cells.valid() || cut != m_cut_at_rebuild || m_cells.displacement_exceeds_half_skin(m_ps)) {
-    m_cells.rebuild(m_ps, m_box, cut);
+    m_cells.rebuild(m_ps, m_box, configure_large_range(cut));
     m_cut_at_rebuild = cut;
 #ifdef MARBLE
     m_colloids.rebuild(m_ps, m_box, m_cells, m_ia);
@@ -141,6 +142,31 @@ void System::ensure_lists() {
   } else {
     m_cells.update_ghosts(m_ps);
   }
+}
+
+double System::configure_large_range(double cut) {
+  InteractionTable::RangeSplit split;
+  if (m_large_range_mode < 0) {
+    int const nt = m_ia.n_types();
+    std::vector<double> count(static_cast<std::size_t>(nt), 0.);
+    for (int i = 0; i < m_ps.n_local(); ++i)
+      if (m_ps.type[i] >= 0 && m_ps.type[i] < nt)
+        count[static_cast<std::size_t>(m_ps.type[i])] += 1.;
+    if (nt > 0)
+      m_comm.sum_inplace(count.data(), nt);
+    split = m_ia.auto_range_split(count);
+  } else if (m_large_range_mode > 0) {
+    split = m_ia.range_split(m_large_range_types);
+    if (!(split.cut_small > 0.))
+      split = InteractionTable::RangeSplit{}; // nothing left for the solvent grid: no split
+  }
+  bool const any = std::find(split.large.begin(), split.large.end(), char(1)) != split.large.end();
+  if (!any) {
+    m_cells.set_large_range({}, 0., 0.);
+    return cut;
+  }
+  m_cells.set_large_range(split.large, split.cut_ll, split.cut_ls);
+  return split.cut_small;
 }
 
 void System::rebuild_lists_at_saved_positions() {

@@ -206,6 +206,16 @@ public:
   void compute_forces(bool with_thermostat);
   bool forces_valid() const { return m_forces_valid; }
   double max_cutoff() const { return m_ia.max_cutoff(); }
+  /** Large-range types of the pair list (cells/CellSystem.hpp): @p mode -1
+   * automatic (InteractionTable::auto_range_split), 0 off, 1 the types
+   * @p types. */
+  void set_large_range_mode(int mode, std::vector<char> const &types) {
+    m_large_range_mode = mode;
+    m_large_range_types = types;
+    m_cells.invalidate();
+  }
+  int large_range_mode() const { return m_large_range_mode; }
+  std::vector<char> const &large_range_types_requested() const { return m_large_range_types; }
 
 private:
   void check_forces_finite() const;
@@ -241,6 +251,11 @@ private:
   bool m_forces_valid = false;
   bool m_dpd_in_pair_loop = true;
   double m_cut_at_rebuild = -1.;
+  int m_large_range_mode = -1;
+  std::vector<char> m_large_range_types;
+  /** Configure the cell system's large-range types for a rebuild; returns
+   * the range of the solvent grid (the small types' cutoff). Collective. */
+  double configure_large_range(double cut);
   std::vector<std::shared_ptr<AutoUpdate>> m_auto_update;
   Constraints m_constraints;
   void refresh_large_types();

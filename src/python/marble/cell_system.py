@@ -69,9 +69,53 @@ class CellSystem:
         """Ids of the particles this rank owns after the last rebuild (not collective)."""
         return list(self._system._core.local_ids())
 
+    @property
+    def large_range_types(self):
+        """Which particle types get the coarse second cell grid
+        (doc/architecture.md, "Two cell grids"): ``"auto"`` (default: types
+        whose own pairs reach more than twice the shortest pair range, e.g. the
+        colloids of a suspension, when they are at most a quarter of the
+        particles), ``None`` (one grid for all types, as before), or a list of
+        types. The pairs and forces are the same in every mode; only the cost
+        differs. The choice made at the last list rebuild (e.g. after
+        ``integrator.run(0)``) is in :meth:`get_state`: ``large_range_types``
+        and the pair ranges (cutoff + skin) ``pair_range_small`` (solvent
+        grid), ``pair_range_large`` and ``pair_range_large_small``."""
+        return self._system.__dict__.get("_large_range_types", "auto")
+
+    @large_range_types.setter
+    def large_range_types(self, value):
+        core = self._system._core
+        if isinstance(value, str):
+            if value != "auto":
+                raise ValueError(f"parameter 'large_range_types' must be 'auto', None or a list "
+                                 f"of types, got {value!r}")
+            core.set_large_range_mode(-1, [])
+            stored = "auto"
+        elif value is None:
+            core.set_large_range_mode(0, [])
+            stored = None
+        else:
+            try:
+                types = [int(t) for t in value]
+            except (TypeError, ValueError):
+                raise ValueError(f"parameter 'large_range_types' must be 'auto', None or a list "
+                                 f"of types, got {value!r}") from None
+            if any(isinstance(t, bool) or int(t) != t for t in value):
+                raise ValueError(f"parameter 'large_range_types' must hold integer types, got {value!r}")
+            core.set_large_range_mode(1, types)
+            stored = sorted(set(types))
+        self._system.__dict__["_large_range_types"] = stored
+
     def get_state(self):
         """Cell-system parameters and counters (a dict)."""
         core = self._system._core
         return {"type": "RegularDecomposition", "skin": self.skin, "effective_skin": core.skin,
                 "n_cells": list(core.n_cells()), "max_cut": core.max_cut(),
-                "verlet_rebuilds": core.n_rebuilds(), "node_grid": list(core.node_grid())}
+                "verlet_rebuilds": core.n_rebuilds(), "node_grid": list(core.node_grid()),
+                **self._large_range_state()}
+
+    def _large_range_state(self):
+        types, r_small, r_ll, r_ls = self._system._core.large_range_state()
+        return {"large_range_types": list(types), "pair_range_small": r_small,
+                "pair_range_large": r_ll, "pair_range_large_small": r_ls}

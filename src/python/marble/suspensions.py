@@ -130,8 +130,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
 
     Every parameter is checked before anything changes (ValueError naming
     it). Returns a dict of what was set (counts, cutoffs, parameters, ids).
-    Colloid-colloid pairs go through the main Verlet list (range 2R + h_cut):
-    a second cell grid for colloids is not there yet (doc/suspensions.md).
+    Colloid-colloid pairs (range 2R + h_cut) go through the main Verlet list
+    but the colloids get their own coarse cell grid (``system.cell_system.
+    large_range_types``, "auto" by default), so the solvent's cells keep the
+    solvent's range (doc/architecture.md, "Two cell grids").
     """
     assert_features("DPD", "HAT", "CONTACT", "MASS")
     if lubrication:

@@ -78,6 +78,8 @@ class System:
         for acc in state["accumulators"]:
             self.auto_update_accumulators._restore(acc)
         self.__dict__.update(state["extra"])
+        if state["extra"].get("_large_range_types", "auto") != "auto":  # cell-grid split (cell_system.py)
+            self.cell_system.large_range_types = state["extra"]["_large_range_types"]
         if "srd" in state:  # SRD
             from .srd import SRDFluid
             self.srd = SRDFluid(**state["srd"][0])

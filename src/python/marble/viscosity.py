@@ -78,7 +78,7 @@ def _fit_matrix(z, L, margin):
 
 def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_blocks=10,
                        flow_dir=0, grad_dir=2, margin=1.0, update_every=5, sample_every=10,
-                       particles=None, progress=None):
+                       particles=None, progress=None, mass_proportional=False):
     """Measure the shear viscosity from a reverse (periodic) Poiseuille flow.
 
     Parameters
@@ -112,6 +112,13 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
         The forced and sampled particles (default: all).
     progress : callable, optional
         Called as progress(fraction_done) after each block.
+    mass_proportional : bool
+        False (default): the same force ±g on every particle. True: particle
+        i gets ±g m_i / <m> (<m> the mean mass of the forced particles), i.e.
+        the same body acceleration for all, as a pressure gradient gives the
+        colloids of a suspension whose mass density equals the solvent's
+        (doc/suspensions.md). The force density is n g in both cases, so eta
+        follows from the same formula. With equal masses both are the same.
 
     Returns
     -------
@@ -168,7 +175,12 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
         # zero net force (the halves hold slightly different particle numbers): a
         # uniform correction that does not change the curvature but stops the
         # centre of mass from random-walking
-        f[:, flow_dir] += sg - np.mean(sg)
+        if mass_proportional:  # the same acceleration for all (and its correction)
+            acc = sg / np.mean(mass)
+            acc -= np.sum(mass * acc) / np.sum(mass)
+            f[:, flow_dir] += mass * acc
+        else:
+            f[:, flow_dir] += sg - np.mean(sg)
         parts.ext_force = f
 
     def run(steps, sample, acc):
