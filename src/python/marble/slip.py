@@ -244,11 +244,14 @@ def analyse(poiseuille, couette, body_force, wall_velocity, fit_min=2.25, fit_ma
 def slip_length_at_boundary(z_P, z_P_err, z_0, z_0_err, z_B, height):
     """delta_B of one two-flow run when the hydrodynamic boundary z_B is known.
 
-    With z_B fixed, both zeros give delta_B linearly (analyse's relations):
-    Couette  z_0 = z_B - delta_B                       -> delta_C = z_B - z_0,
-    Poiseuille z_P (L - z_P) = z_B (L - z_B) + delta_B (2 z_B - L)
-                                                       -> delta_P = [z_B (L - z_B) - z_P (L - z_P)] / (L - 2 z_B),
-    with errors sigma(z_0) and |L - 2 z_P| / (L - 2 z_B) sigma(z_P). Returns
+    With z_B fixed, both zeros give delta_B linearly (analyse's relations)::
+
+      Couette:     z_0 = z_B - delta_B
+                   delta_C = z_B - z_0
+      Poiseuille:  z_P (L - z_P) = z_B (L - z_B) + delta_B (2 z_B - L)
+                   delta_P = [z_B (L - z_B) - z_P (L - z_P)] / (L - 2 z_B)
+
+    with errors sigma(z_0) and abs(L - 2 z_P) / (L - 2 z_B) sigma(z_P). Returns
     (delta_B, its error, delta_C, delta_P): the weighted mean of the two, whose
     error is of the order of the zeros' (~0.01-0.02), against the
     ~(L/2b) sigma(z) of the unconstrained d2 route. The error of z_B itself is
