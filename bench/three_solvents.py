@@ -629,7 +629,7 @@ def plot(rows, prow, datas, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 5.5))
     colors = {"marble": "C0", "srd": "C1", "core": "C2"}
     for i, r in enumerate(rows):
         mk = "o" if r["method"] == "drag" else "s"
@@ -638,10 +638,10 @@ def plot(rows, prow, datas, path):
                        mfc=fill)
         ax[1].semilogy(i, r["cpu_5"], mk, color=colors[r["model"]], mfc=fill)
         ax[1].semilogy(i, r["cpu_1"], mk, color=colors[r["model"]], mfc=fill, alpha=0.4)
-    labels = [f"{r['model']}\n{r['method']} {r['boundary']}\nR={r['R']:g} L={r['L']:g}" for r in rows]
+    labels = [f"{r['model']} {r['method']} {r['boundary']} R={r['R']:g} L={r['L']:g}" for r in rows]
     for a in ax[:2]:
         a.set_xticks(range(len(rows)))
-        a.set_xticklabels(labels, fontsize=7)
+        a.set_xticklabels(labels, fontsize=7, rotation=90)
     ax[0].axhline(0, color="k", lw=0.5)
     ax[0].set_ylabel("D(inf) / Stokes - 1  [%]")
     ax[0].set_title("systematic error (Hasimoto-corrected)")
