@@ -3,7 +3,10 @@ doc/marble.md "Slip length on request").
 
   wall    tunable-slip walls (Smiatek, Allen, Schmid 2008): delta_B from a
           Poiseuille and a Couette run per gamma_L (marble.slip.measure_slip),
-          channel 6 x 6 x 10, layer [1.016, 2.016], g = 0.1, v_w = 3.
+          channel 6 x 6 x 10, layer [1.016, 2.016], g = 0.1, v_w = 3; the
+          installed curve is re-analysed with one hydrodynamic boundary z_B for
+          all points (marble.slip.refit_common_boundary; the raw file keeps
+          each point's own two-flow values).
   marble  marble colloid R = 2 in a periodic L = 10 box: drag -> D -> Basset
           slip length with Hasimoto's correction (marble.slip.measure_marble_slip),
           eta = 1.273 +- 0.007 (doc/dpd.md).
@@ -34,8 +37,10 @@ PKG_DATA = os.path.join(HERE, "..", "src", "python", "marble", "data")
 # target slip lengths first, so an interrupted calibration is still useful).
 # The first two points of each list ran with these lengths; the machine then
 # became loaded (load average 11 on 2 cores) and the later points were shortened.
-WALL_GAMMAS = [0.35, 0.85, 0.5, 1.0, 0.25, 0.7, 1.1]
-WALL_STEPS = [150000, 300000, 80000, 200000, 50000, 100000, 250000]   # per flow
+# gamma_L = 1.3 was added with the common-boundary analysis (refit_common_boundary), which
+# puts b = 0.5 just beyond gamma_L = 1.1.
+WALL_GAMMAS = [0.35, 0.85, 0.5, 1.0, 0.25, 0.7, 1.1, 1.3]
+WALL_STEPS = [150000, 300000, 80000, 200000, 50000, 100000, 250000, 100000]   # per flow
 MARBLE_GAMMAS = [1.4, 1.0, 2.0, 3.0, 0.7]
 MARBLE_TIME = [2000.0, 2000.0, 1500.0, 1000.0, 800.0]           # tau of drag
 
@@ -63,6 +68,13 @@ def main():
             n = [4000, 4000] if args.quick else WALL_STEPS
             data = slip.calibrate("wall", g, out=path, seed=101, n_steps=n,
                                   equil_steps=1000 if args.quick else 10000)
+            if len(data["points"]) >= 2:
+                two_flow = data
+                data = slip.refit_common_boundary(data)
+                e = data["measurement"]["estimator"]
+                print(f"common boundary z_B = {e['z_B']:.4f} +- {e['z_B_err']:.4f}, chi2 = "
+                      f"{e['chi2']:.2f} for {e['dof']} degrees of freedom")
+                data["measurement"]["cpu_s"] = two_flow["measurement"]["cpu_s"]
         elif part == "marble":
             g = MARBLE_GAMMAS[:2] if args.quick else MARBLE_GAMMAS
             t = [5.0, 5.0] if args.quick else MARBLE_TIME
@@ -98,12 +110,18 @@ def plot(out_dir):
             continue
         with open(path) as f:
             data = json.load(f)
-        pts = data["points"]
         fig, ax = plt.subplots(figsize=(5.5, 4))
+        if part == "wall":
+            raw = [p for p in data["points"] if p["use"]]
+            ax.errorbar([p["gamma"] * 1.02 for p in raw], [p["b"] for p in raw],
+                        [p["b_err"] for p in raw], fmt="o", color="0.6", mfc="none", capsize=2,
+                        label="two-flow, own z_B per point")
+            data = slip.refit_common_boundary(data)
+        pts = data["points"]
         use = [p for p in pts if p["use"]]
         ax.errorbar([p["gamma"] for p in use], [p["b"] for p in use],
                     [p["b_err"] for p in use], fmt="o", color="k", capsize=3,
-                    label="measured (calibration points)")
+                    label="calibration points" + (" (common z_B)" if part == "wall" else ""))
         lo, hi, glo, ghi = slip.calibrated_range(part, data)
         gg = np.geomspace(glo, ghi, 200)
         bb = np.array([slip.slip_length_for_gamma(g, part, data) for g in gg])
@@ -143,14 +161,19 @@ def plot(out_dir):
         fig.savefig(os.path.join(fig_dir, f"slip_{part}.png"), dpi=110)
         print(f"\n{part}: {data['measurement']}")
         if part == "wall":
-            print("| gamma_L | steps per flow | eta | z_P | z_0 | d2 | delta_B | z_B | formula | CPU s |")
-            print("|---|---|---|---|---|---|---|---|---|---|")
+            e = data["measurement"]["estimator"]
+            print(f"common z_B = {e['z_B']:.4f} +- {e['z_B_err']:.4f}, chi2 {e['chi2']:.2f} / {e['dof']}")
+            print("| gamma_L | steps per flow | eta | z_P | z_0 | d2 | two-flow delta_B | own z_B | "
+                  "b at common z_B (stat, total) | formula | CPU s |")
+            print("|---|---|---|---|---|---|---|---|---|---|---|")
             for p in pts:
                 f = slip.smiatek_slip_length(p["gamma"], eta=p["eta"], rho=p["rho"])
                 print(f"| {p['gamma']:g} | {p['n_steps']} | {p['eta']:.3f} ± {p['eta_err']:.3f} | "
                       f"{p['z_P']:.3f} ± {p['z_P_err']:.3f} | {p['z_0']:.3f} ± {p['z_0_err']:.3f} | "
-                      f"{p['d2']:.3f} ± {p['d2_err']:.3f} | {p['b']:.3f} ± {p['b_err']:.3f} | "
-                      f"{p['z_B']:.3f} ± {p['z_B_err']:.3f} | {f:.3f} | {p['cpu_s']:.0f} |")
+                      f"{p['d2']:.3f} ± {p['d2_err']:.3f} | {p['b_two_flow']:.3f} ± "
+                      f"{p['b_two_flow_err']:.3f} | {p['z_B']:.3f} ± {p['z_B_err']:.3f} | "
+                      f"**{p['b']:.3f}** ± {p['b_err_stat']:.3f}, {p['b_err']:.3f} | {f:.3f} | "
+                      f"{p['cpu_s']:.0f} |")
         else:
             print("| gamma | t_prod | v | D | D / D_stick(L) | b | b_err (stat) | b_err (eta) | "
                   "estimate | CPU s |")

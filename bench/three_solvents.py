@@ -1,9 +1,13 @@
 """One colloid, three solvents (issue 14; doc/choosing-a-model.md explains the results).
 
-The same colloid (radius R in solvent units, kT = 1, L/R = 5) in
+The same colloid (radius R in solvent units, kT = 1, L/R = 5; at R = 2 also
+L/R = 8, where D(inf) after Hasimoto's correction must come out the same) in
   marble  the marble colloid in the marble paper's DPD solvent (seed 000):
           rho = 3, DPD gamma = 5, no conservative force, tunable-slip coupling
-          gamma = 5 (stick; coupling "dpd" = central forces only: slip),
+          gamma = 5 (stick; coupling "dpd" = central forces only: slip;
+          case R2_L10_b1: the tunable-slip gamma that the shipped calibration
+          marble.slip.gamma_for_slip_length(1.0, surface="marble") gives for
+          slip length b = 1, compared with Basset's partial-slip drag),
           Shardlow at dt = 0.04 (doc/speed-accuracy.md);
   srd     the SRD solvent with a stochastic-boundary stick colloid (seed 003):
           density 5, tau = 0.1, alpha = 90 deg, MBS thermostat, dt = 0.025,
@@ -32,6 +36,7 @@ Sections (--part, comma separated; default all): eta, drag, gk, paper, probe, pl
 the statistical errors there are extrapolated (doc/choosing-a-model.md says which).
 
 Run:   build/pymarble bench/three_solvents.py [--model marble,srd,core] [--part ...]
+                                              [--case R2_L16,R2_L10_b1] [--no-package]
 Writes bench/results/three_solvents_<model>.json (resumable: cases already
 there are skipped, --redo reruns them), and with --part plot the merged
 bench/results/three_solvents.json, doc/figures/three_solvents.png and the
@@ -86,7 +91,9 @@ def eta_of(model, data):
     return float(np.sum(w * x) / np.sum(w)), float(1.0 / math.sqrt(np.sum(w)))
 
 
-def D_guess(model, R, L, eta, boundary):
+def D_guess(model, R, L, eta, boundary, b=None):
+    if boundary == "partial":
+        return th.diffusion_coefficient(eta, R, L, b, KT)
     b = 0.0 if boundary == "stick" else np.inf
     D = th.diffusion_coefficient(eta, R, L, b, KT)
     if model == "srd":
@@ -137,11 +144,27 @@ def eta_case(model, T, seed=21):
                 eta_prior=ETA_PRIOR[model][0], eta_prior_err=ETA_PRIOR[model][1])
 
 
-def drag_case(model, R, L, T, eta, boundary="stick", seed=41, t_eq=20.0):
+def drag_case(model, R, L, T, eta, boundary="stick", seed=41, t_eq=20.0, b=None):
     """Drag method: D(L) = kT <v_rel> / F, error the larger of the blocking
-    error and the floor sqrt(2 D / T) (marble.colloid_runs.drag_run)."""
-    sc = Scene(model, R, L, seed, boundary)
-    F = V_DRAG / D_guess(model, R, L, eta, boundary)
+    error and the floor sqrt(2 D / T) (marble.colloid_runs.drag_run).
+    boundary="partial" (marble only): the tunable-slip marble at the surface
+    friction that the shipped calibration curve gives for slip length ``b``
+    (marble.slip.gamma_for_slip_length(b, surface="marble")); the curve's b
+    and its error at that gamma are stored with the run."""
+    extra = {}
+    gamma = None
+    if boundary == "partial":
+        from marble import slip
+        gamma, gamma_err = slip.gamma_for_slip_length(b, surface="marble", radius=R)
+        b_curve, b_curve_err = slip.slip_length_for_gamma(gamma, "marble")
+        cond = slip.load_curve("marble")["conditions"]
+        extra = dict(b_target=b, gamma=gamma, gamma_err=gamma_err, b=b_curve,
+                     b_err_curve=b_curve_err,
+                     curve_integrator=f"{cond['integrator']} dt = {cond['dt']}")
+        log(f"      calibrated marble: b = {b} -> gamma = {gamma:.4f} +/- {gamma_err:.4f} "
+            f"(curve: b = {b_curve:.4f} +/- {b_curve_err:.4f})")
+    sc = Scene(model, R, L, seed, boundary, gamma=gamma)
+    F = V_DRAG / D_guess(model, R, L, eta, boundary, b)
     vrel, cpu_run, cpu = sc.drag_series(F, T, t_eq)
     v, v_err_blk = block_average(vrel, min_blocks=16)
     D = KT * v / F
@@ -151,7 +174,7 @@ def drag_case(model, R, L, T, eta, boundary="stick", seed=41, t_eq=20.0):
                 dt=sc.dt, N=sc.n_particles, v=v, v_err=v_err, v_err_blocking=v_err_blk,
                 D=D, D_err=KT * v_err / F, D_err_blocking=KT * v_err_blk / F, seed=seed,
                 cpu_run_s=cpu_run, cpu_eq_s=cpu, cpu_per_tau=cpu_run / T,
-                load_avg=os.getloadavg()[0])
+                load_avg=os.getloadavg()[0], **extra)
 
 
 def gk_case(model, R, L, t_chunk, n_chunks, eta, seed=51, boundary="stick"):
@@ -255,6 +278,18 @@ def plan(model, quick):
     # slip where the model has both (marble: central "dpd" coupling; SRD: specular)
     if model in ("marble", "srd"):
         p["drag"].append(("R2_L10_slip", dict(R=2.0, L=10.0, T=T_drag / 2, boundary="slip")))
+    # the calibrated tunable-slip marble (marble.slip, b = 1 for R = 2): Basset's drag
+    if model == "marble":
+        p["drag"].append(("R2_L10_b1", dict(R=2.0, L=10.0, T=1500.0 * f, boundary="partial",
+                                            b=1.0)))
+    # L/R = 8 (R = 2, L = 16): D(inf) after Hasimoto's correction must not depend on L
+    p["drag"].append(("R2_L16", dict(R=2.0, L=16.0,
+                                     T={"marble": 1000.0, "srd": 3000.0, "core": 100.0}[model] * f,
+                                     boundary=BOUNDARY[model],
+                                     t_eq=20.0 if model != "core" else 10.0)))
+    if model == "marble":   # a second seed: the first came out 2 sigma low
+        p["drag"].append(("R2_L16_s2", dict(R=2.0, L=16.0, T=1000.0 * f, boundary="stick",
+                                            seed=43)))
     # paper size (R = 3, L = 15): the systematic error measured by drag (the core
     # colloid costs ~35x the marble per unit time there: a shorter run)
     p["drag"].append(("R3_L15", dict(R=3.0, L=15.0,
@@ -263,7 +298,7 @@ def plan(model, quick):
     return p
 
 
-def run_model(model, parts, quick, redo, out_dir):
+def run_model(model, parts, quick, redo, out_dir, cases=None):
     suffix = "_quick" if quick else ""
     store = Store(os.path.join(out_dir, f"three_solvents{suffix}_{model}.json"), redo)
     store.data.setdefault("machine", {"python": sys.version.split()[0]})
@@ -272,7 +307,7 @@ def run_model(model, parts, quick, redo, out_dir):
         if section not in parts:
             continue
         for key, kw in p[section]:
-            if store.has(section, key):
+            if store.has(section, key) or (cases and key not in cases):
                 continue
             eta = eta_of(model, store.data)[0]
             log(f"[{model}] {section} {key} {kw} ...")
@@ -323,7 +358,7 @@ def analyse(datas):
                 # the core colloid has only one surface (slip), whatever the run was labelled
                 R, L = r["R"], r["L"]
                 bc = BOUNDARY["core"] if model == "core" else r.get("boundary", "stick")
-                b = 0.0 if bc == "stick" else np.inf
+                b = {"stick": 0.0, "slip": np.inf}.get(bc, r.get("b"))
                 shift = th.diffusion_coefficient(eta, R, np.inf, b) - th.diffusion_coefficient(eta, R, L, b)
                 D_inf = r["D"] + shift
                 ref = th.diffusion_coefficient(eta, R, np.inf, b)
@@ -331,19 +366,43 @@ def analyse(datas):
                 rel_stat = r["D_err"] / D_inf
                 sys_err = D_inf / ref - 1.0
                 sys_eta = (r["D"] / ref) * (eta_err / eta)   # (D_inf/ref) changes by D(L)/ref x deta/eta
+                sys_cal = 0.0
+                if bc == "partial":
+                    # the calibration curve's error of b at the run's gamma, carried through
+                    # Basset + Hasimoto: (D(L) + shift(b)) / D_Basset(b) at b +/- sigma_b
+                    sb = r["b_err_curve"]
+
+                    def ratio(bb):
+                        return (r["D"] + th.diffusion_coefficient(eta, R, np.inf, bb)
+                                - th.diffusion_coefficient(eta, R, L, bb)) / \
+                            th.diffusion_coefficient(eta, R, np.inf, bb)
+                    sys_cal = 0.5 * abs(ratio(b + sb) - ratio(max(b - sb, 0.0)))
                 cpu_tau, N = r["cpu_per_tau"], r["N"]
                 c = d.get("cost", {}).get(f"R{R:g}_L{L:g}")
                 if c:   # the same scene re-timed without unused kernels (cost_note in the JSON)
                     cpu_tau, N = c["cpu_per_tau"], c["N"]
                 row = dict(model=model, method=section, case=key, boundary=bc, R=R, L=L, T=r["T"],
                            eta=eta, eta_err=eta_err, D_L=r["D"], D_L_err=r["D_err"], D_inf=D_inf,
-                           D_inf_err=r["D_err"], D_stokes=ref, sys=sys_err,
-                           sys_err=math.hypot(rel_stat * (1 + sys_err), sys_eta),
+                           D_inf_err=r["D_err"], D_stokes=ref, sys=sys_err, shift=shift,
+                           sys_err=math.sqrt((rel_stat * (1 + sys_err)) ** 2 + sys_eta ** 2
+                                             + sys_cal ** 2),
+                           sys_err_stat=rel_stat * (1 + sys_err), sys_err_eta=sys_eta,
+                           sys_err_calibration=sys_cal,
                            cpu_per_tau=cpu_tau, cpu_per_tau_run=r["cpu_per_tau"], N=N, dt=r["dt"],
                            rel_err=rel_stat, var_T=rel_stat ** 2 * r["T"])
                 for eps in (0.01, 0.05):
                     row[f"T_{int(eps * 100)}"] = r["T"] * (rel_stat / eps) ** 2
                     row[f"cpu_{int(eps * 100)}"] = row[f"T_{int(eps * 100)}"] * cpu_tau
+                if bc == "partial":
+                    row.update(b=b, b_err_curve=r["b_err_curve"], gamma=r["gamma"],
+                               gamma_err=r["gamma_err"], b_target=r["b_target"],
+                               curve_integrator=r["curve_integrator"])
+                    # the slip length this run measures (Basset + Hasimoto), for the record
+                    try:
+                        bm, bme = th.slip_length_from_D(r["D"], eta, R, L, r["D_err"], KT)
+                        row.update(b_measured=bm, b_measured_err=bme)
+                    except ValueError:
+                        pass
                 if "D_rot" in r:
                     Dr_th = th.rotational_diffusion_coefficient(eta, R, L, b if bc == "stick" else 0.0)
                     Dr_inf_th = th.rotational_diffusion_coefficient(eta, R, np.inf, 0.0)
@@ -392,6 +451,52 @@ def paper_rows(datas, rows):
     return out
 
 
+def hasimoto_rows(rows):
+    """L/R = 5 against L/R = 8 at R = 2 (drag, the model's own surface): D(inf)
+    after Hasimoto's correction should not depend on L. The difference
+    D(inf; L/R = 8) - D(inf; L/R = 5) with its error (both runs' statistics;
+    the viscosity's error moves the two shifts together: d/d eta of the
+    difference is -(shift_5 - shift_8)/eta), and, for contrast, the
+    difference of the uncorrected D(L) and the shift Hasimoto predicts."""
+    out = []
+    for model in MODELS:
+        rs = [r for r in rows if r["model"] == model and r["method"] == "drag" and r["R"] == 2.0
+              and r["boundary"] == BOUNDARY[model]]
+        small = [r for r in rs if r["case"] == "R2_L10"]
+        big = [r for r in rs if r["case"].startswith("R2_L16")]
+        if not small or not big:
+            continue
+        a, c = small[0], dict(big[0])
+        if len(big) > 1:   # several seeds at L/R = 8: their weighted mean (same eta, same shift)
+            w = np.array([1.0 / r["D_inf_err"] ** 2 for r in big])
+            for key in ("D_L", "D_inf"):
+                c[key] = float(np.sum(w * [r[key] for r in big]) / np.sum(w))
+            c["D_L_err"] = c["D_inf_err"] = float(1.0 / np.sqrt(np.sum(w)))
+            c["T"] = float(sum(r["T"] for r in big))
+            c["sys"] = c["D_inf"] / c["D_stokes"] - 1.0
+            c["sys_err"] = math.hypot(c["D_inf_err"] / c["D_stokes"], c["sys_err_eta"])
+            c["cpu_per_tau"] = float(sum(r["cpu_per_tau"] * r["T"] for r in big) / c["T"])
+            var_T = (c["D_inf_err"] / c["D_inf"]) ** 2 * c["T"]
+            c["cpu_5"] = var_T / 0.05 ** 2 * c["cpu_per_tau"]
+            c["cpu_1"] = var_T / 0.01 ** 2 * c["cpu_per_tau"]
+        diff = c["D_inf"] - a["D_inf"]
+        err_eta = abs(a["shift"] - c["shift"]) * a["eta_err"] / a["eta"]
+        err = math.sqrt(a["D_inf_err"] ** 2 + c["D_inf_err"] ** 2 + err_eta ** 2)
+        out.append(dict(model=model, boundary=a["boundary"], L_small=a["L"], L_big=c["L"],
+                        D_L_small=a["D_L"], D_L_small_err=a["D_L_err"], D_L_big=c["D_L"],
+                        D_L_big_err=c["D_L_err"], shift_small=a["shift"], shift_big=c["shift"],
+                        D_inf_small=a["D_inf"], D_inf_big=c["D_inf"], diff=diff, diff_err=err,
+                        diff_rel=diff / a["D_inf"], diff_rel_err=err / a["D_inf"],
+                        diff_uncorrected=c["D_L"] - a["D_L"],
+                        diff_predicted=a["shift"] - c["shift"],
+                        n_runs_big=len(big), cases_big=[r["case"] for r in big],
+                        sys_small=a["sys"], sys_small_err=a["sys_err"], sys_big=c["sys"],
+                        sys_big_err=c["sys_err"], T_big=c["T"], cpu_per_tau_big=c["cpu_per_tau"],
+                        cpu_run_big=c["cpu_per_tau"] * c["T"], N_big=c["N"],
+                        cpu_5_big=c["cpu_5"], cpu_1_big=c["cpu_1"]))
+    return out
+
+
 def load_all(out_dir, quick):
     suffix = "_quick" if quick else ""
     datas = {}
@@ -403,12 +508,13 @@ def load_all(out_dir, quick):
     return datas
 
 
-def summary_and_plot(out_dir, quick):
+def summary_and_plot(out_dir, quick, package=True):
     datas = load_all(out_dir, quick)
     rows = analyse(datas)
     prow = paper_rows(datas, rows)
     speed = probe_speed()
-    summary = dict(rows=rows, paper=prow, probe_particle_steps_per_cpu_s=speed,
+    summary = dict(rows=rows, paper=prow, hasimoto=hasimoto_rows(rows),
+                   probe_particle_steps_per_cpu_s=speed,
                    settings=SETTINGS, boundary=BOUNDARY, eta_prior=ETA_PRIOR,
                    eta={m: eta_of(m, d) for m, d in datas.items()},
                    eta_bench={m: d.get("eta", {}).get("eta") for m, d in datas.items()})
@@ -428,7 +534,7 @@ def summary_and_plot(out_dir, quick):
         log(f"paper {r['model']:7s} R=3 L=15 N={r['N']} {r['cpu_per_tau']:.4f} CPU-s/tau, "
             f"CPU to 1 % {r['cpu_1']:.0f}, 5 % {r['cpu_5']:.1f} (error extrapolated)")
     print_markdown(summary)
-    if not quick:
+    if not quick and package:
         write_package_data(summary)
     plot(rows, prow, datas, os.path.join(ROOT, "doc", "figures", f"three_solvents{suffix}.png"))
 
@@ -455,6 +561,24 @@ def print_markdown(summary):
             log(f"| {r['model']} | Green-Kubo | {_pm(r['D_rot'], r['D_rot_err'], 6)} | "
                 f"{r['D_rot_inf']:.6f} | {r['D_rot_stokes']:.6f} | {100 * r['sys_rot']:+.0f} +/- "
                 f"{100 * r['D_rot_err'] / r['D_rot_stokes']:.0f} % | {r['cpu_rot_5']:.3g} |")
+    log("\n| model | surface | L/R = 5: D(L) | shift | D(inf) | L/R = 8: D(L) | shift | D(inf) | "
+        "D(inf) difference | D(L) difference | Hasimoto's |")
+    log("|---|---|---|---|---|---|---|---|---|---|---|")
+    for h in summary["hasimoto"]:
+        log(f"| {h['model']} | {h['boundary']} | {_pm(h['D_L_small'], h['D_L_small_err'])} | "
+            f"{h['shift_small']:.5f} | {h['D_inf_small']:.5f} | {_pm(h['D_L_big'], h['D_L_big_err'])} | "
+            f"{h['shift_big']:.5f} | {h['D_inf_big']:.5f} | {_pm(h['diff'], h['diff_err'])} "
+            f"({100 * h['diff_rel']:+.1f} +/- {100 * h['diff_rel_err']:.1f} %) | "
+            f"{h['diff_uncorrected']:+.5f} | {h['diff_predicted']:+.5f} |")
+    for r in summary["rows"]:
+        if r["boundary"] == "partial":
+            log(f"\npartial slip: b = {r['b']:.3f} +/- {r['b_err_curve']:.3f} (curve) -> gamma = "
+                f"{r['gamma']:.4f} +/- {r['gamma_err']:.4f}; D(L) = {_pm(r['D_L'], r['D_L_err'])}, "
+                f"D(inf) = {r['D_inf']:.5f}, Basset {r['D_stokes']:.5f}: {100 * r['sys']:+.1f} +/- "
+                f"{100 * r['sys_err']:.1f} % (stat {100 * r['sys_err_stat']:.1f}, eta "
+                f"{100 * r['sys_err_eta']:.1f}, calibration {100 * r['sys_err_calibration']:.1f}); "
+                f"b from this drag {r.get('b_measured', float('nan')):.3f} +/- "
+                f"{r.get('b_measured_err', float('nan')):.3f}")
     log("\n| model | N | dt | CPU-s per tau (measured) | CPU-s to 5 % (extrapolated) | "
         "CPU-s to 1 % (extrapolated) |")
     log("|---|---|---|---|---|---|")
@@ -468,7 +592,9 @@ def write_package_data(summary):
     GK/rotation, with the probe speed of the machine that measured it."""
     models = {}
     for r in summary["rows"]:
-        if r["R"] != 2.0:   # the advisor's table is the R = 2 set; R = 3 is in the doc
+        # the advisor's table is the R = 2, L/R = 5 set of the models' own surfaces;
+        # R = 3, L/R = 8 and the calibrated partial-slip marble are in the doc
+        if r["R"] != 2.0 or not r["case"].startswith("R2_L10") or r["boundary"] == "partial":
             continue
         m = models.setdefault(r["model"], {"settings": SETTINGS[r["model"]],
                                            "boundary": BOUNDARY[r["model"]],
@@ -503,7 +629,7 @@ def plot(rows, prow, datas, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 5.5))
     colors = {"marble": "C0", "srd": "C1", "core": "C2"}
     for i, r in enumerate(rows):
         mk = "o" if r["method"] == "drag" else "s"
@@ -512,13 +638,13 @@ def plot(rows, prow, datas, path):
                        mfc=fill)
         ax[1].semilogy(i, r["cpu_5"], mk, color=colors[r["model"]], mfc=fill)
         ax[1].semilogy(i, r["cpu_1"], mk, color=colors[r["model"]], mfc=fill, alpha=0.4)
-    labels = [f"{r['model']}\n{r['method']} {r['boundary']}" for r in rows]
+    labels = [f"{r['model']} {r['method']} {r['boundary']} R={r['R']:g} L={r['L']:g}" for r in rows]
     for a in ax[:2]:
         a.set_xticks(range(len(rows)))
-        a.set_xticklabels(labels, fontsize=7)
+        a.set_xticklabels(labels, fontsize=7, rotation=90)
     ax[0].axhline(0, color="k", lw=0.5)
     ax[0].set_ylabel("D(inf) / Stokes - 1  [%]")
-    ax[0].set_title("systematic error (R = 2, L = 10)")
+    ax[0].set_title("systematic error (Hasimoto-corrected)")
     ax[1].set_ylabel("CPU-s to 5 % (solid) and 1 % (faint)")
     ax[1].set_title("statistical cost of D(inf)")
     for m, d in datas.items():
@@ -542,15 +668,19 @@ def main():
     ap.add_argument("--part", default="eta,drag,gk,paper,plot")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--redo", action="store_true")
+    ap.add_argument("--case", default="", help="run only these case keys (comma separated), "
+                    "e.g. R2_L16,R2_L10_b1")
+    ap.add_argument("--no-package", action="store_true",
+                    help="with --part plot: do not rewrite the advisor's package data")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
     parts = a.part.split(",")
     for m in a.model.split(","):
         if m not in MODELS:
             raise ValueError(f"parameter '--model': {m!r} is not one of {MODELS}")
-        run_model(m, parts, a.quick, a.redo, a.out)
+        run_model(m, parts, a.quick, a.redo, a.out, [c for c in a.case.split(",") if c])
     if "plot" in parts:
-        summary_and_plot(a.out, a.quick)
+        summary_and_plot(a.out, a.quick, package=not a.no_package)
 
 
 if __name__ == "__main__":

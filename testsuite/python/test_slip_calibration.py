@@ -7,18 +7,21 @@ length again:
 
 - tunable-slip wall, b = 2: delta_B within 3 combined sigma (the rerun's
   jackknife error and the curve's error at that gamma_L) of 2;
-- tunable-slip wall, b = 0.5: compared through d2 = delta_B^2 = (z_P - z_0)
-  (L - z_P - z_0), the quantity the two-flow method measures linearly (a short
-  run near b = 0.5 can give d2 < 0, where delta_B = sqrt(d2) is undefined):
-  d2 within 3 combined sigma of 0.25;
+- tunable-slip wall, b = 0.5: the shipped curve's estimator (delta_B at the
+  curve's common boundary plane z_B, slip.slip_length_at_boundary) within 3
+  combined sigma of 0.5; the Couette and Poiseuille values agree at that z_B
+  (3 sigma); and the unconstrained two-flow route, compared through d2 =
+  delta_B^2 = (z_P - z_0)(L - z_P - z_0), which it measures linearly (a short
+  run near b = 0.5 can give d2 < 0), within 3 combined sigma of 0.25;
 - marble colloid (R = 2, L = 10), b = 0.5: the Basset slip length of its drag
   (Hasimoto-corrected, the curve's viscosity) within 3 combined sigma of 0.5.
 
 About 2.4e5 steps of the 864-bead channel and 5.2e4 steps of the 2900-bead
 marble box: 115 s of CPU on the loaded 2-core development machine (~80-90 s idle).
-Measured (2026-11-30): wall b = 2: gamma_L = 0.357, delta_B = 1.966 +- 0.190
-(0.2 sigma); wall b = 0.5: gamma_L = 1.02, d2 = 0.819 +- 0.246 (2.1 sigma);
-marble b = 0.5: gamma = 1.99, b = 0.382 +- 0.067 (1.4 sigma).
+Measured (2026-11-30, common-boundary wall curve): wall b = 2: gamma_L = 0.369,
+delta_B = 2.021 +- 0.125 (0.2 sigma); wall b = 0.5: gamma_L = 1.132, delta_B at z_B =
+0.529 +- 0.012 (0.7 combined sigma with the curve's 0.043), d2 = 0.488 +- 0.221
+(1.0 sigma); marble b = 0.5: gamma = 1.99, b = 0.382 +- 0.067 (1.4 sigma).
 """
 import unittest
 
@@ -65,7 +68,19 @@ class SlipRoundTrip(unittest.TestCase):
     def test_wall_b05(self):
         b = 0.5
         _, s_curve, r = wall_rerun(b, n_steps=60000, seed=41)
-        # in d2 = b^2 (linear in the measured zeros); the curve's sigma_b -> 2 b sigma_b
+        # the shipped curve's estimator: delta_B at the curve's common boundary plane z_B
+        # (slip.common_boundary_fit); the rerun's zeros at that z_B
+        est = slip.load_curve("wall")["measurement"]["estimator"]
+        d, d_err, d_c, d_p = slip.slip_length_at_boundary(r["z_P"], r["z_P_err"], r["z_0"],
+                                                          r["z_0_err"], est["z_B"], r["height"])
+        print(f"at the curve's z_B = {est['z_B']:.4f} +- {est['z_B_err']:.4f}: delta_B = {d:.4f} +- "
+              f"{d_err:.4f} (Couette {d_c:.4f}, Poiseuille {d_p:.4f})")
+        # s_curve contains z_B's error, which moves the rerun's delta_B the same way: conservative
+        self.assertLess(abs(d - b), 3.0 * np.hypot(d_err, s_curve))
+        # the two zeros agree at that z_B (the common-boundary model holds for this run)
+        s_p = abs(r["height"] - 2 * r["z_P"]) / (r["height"] - 2 * est["z_B"]) * r["z_P_err"]
+        self.assertLess(abs(d_c - d_p), 3.0 * np.hypot(r["z_0_err"], s_p))
+        # and the unconstrained two-flow route, in d2 = b^2 (linear in the zeros)
         self.assertLess(abs(r["d2"] - b * b), 3.0 * np.hypot(r["d2_err"], 2 * b * s_curve))
 
     @unittest.skipIf(not marble.has_features("MARBLE"), "missing feature MARBLE")

@@ -129,6 +129,33 @@ class SlipCalibrationAPI(unittest.TestCase):
             self.assertEqual(slip.gamma_for_slip_length(1.0, curve=path),
                              slip.gamma_for_slip_length(1.0, curve=self.curve))
 
+    def test_common_boundary_fit(self):
+        """Zeros generated from one z_B and known slip lengths (exact two-flow relations) give
+        back z_B and every delta_B, chi^2 ~ 0; a single run at a given z_B likewise."""
+        L, zb = 10.0, 1.05
+        pts = []
+        for d in (3.0, 1.2, 0.5):
+            z0 = zb - d
+            zp = L / 2 - np.sqrt(L * L / 4 - (z0 * (L - z0) + d * d))
+            pts.append({"z_P": zp, "z_P_err": 0.01, "z_0": z0, "z_0_err": 0.02})
+        fit = slip.common_boundary_fit(pts, L)
+        self.assertAlmostEqual(fit["z_B"], zb, places=5)
+        self.assertLess(fit["chi2"], 1e-8)
+        self.assertEqual(fit["dof"], 2)
+        np.testing.assert_allclose(fit["delta_B"], [3.0, 1.2, 0.5], atol=1e-5)
+        self.assertTrue(all(e > s for e, s in zip(fit["delta_B_err"], fit["delta_B_err_stat"])))
+        d, e, dc, dp = slip.slip_length_at_boundary(pts[2]["z_P"], 0.01, pts[2]["z_0"], 0.02, zb, L)
+        self.assertAlmostEqual(dc, 0.5, places=10)
+        self.assertAlmostEqual(dp, 0.5, places=10)
+        self.assertLess(e, 0.02)
+        with self.assertRaisesRegex(ValueError, ">= 2 points"):
+            slip.common_boundary_fit(pts[:1], L)
+        # the refit keeps the two-flow values and is idempotent
+        curve = slip.load_curve("wall")
+        again = slip.refit_common_boundary(curve)
+        self.assertEqual([p["b"] for p in again["points"]], [p["b"] for p in curve["points"]])
+        self.assertIn("b_two_flow", again["points"][0])
+
     def test_shipped_curves(self):
         """The package curves load, cover the targets of issue 14 and record
         their conditions and how they were measured."""

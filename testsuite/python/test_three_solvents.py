@@ -13,7 +13,15 @@ ranking of the models by CPU time per unit simulated time (time.process_time,
 ratios within this run) is the one printed in the doc. The core colloid costs ~11x the marble per unit
 time: a run long enough for its D (170 time units, ~90 CPU-s) is
 test_three_solvents_core.py (label long); here it runs 3 time units for the
-cost ranking only."""
+cost ranking only.
+
+Also the calibrated tunable-slip marble (doc/choosing-a-model.md, section 2):
+the surface friction that the shipped marble calibration gives for slip
+length b = 1 (marble.slip.gamma_for_slip_length(1.0, surface="marble")), 500
+time units of drag; D(inf) after Hasimoto's correction (for slip length b)
+equals Basset's kT (1 + 3b/R) / (6 pi eta R (1 + 2b/R)) within 3 sigma of the
+run's statistics, the calibration curve's error of b (carried through Basset
+and Hasimoto) and the viscosity's error."""
 import math
 
 import pytest
@@ -27,6 +35,7 @@ pytestmark = pytest.mark.skipif(not marble.has_features(*FEATURES),
 
 if marble.has_features(*FEATURES):
     import marble.advisor as adv
+    from marble import slip
     from marble import theory as th
     from marble.viscosity import block_average
 
@@ -86,3 +95,30 @@ def test_cost_ranking_as_in_the_doc(results):
     # the gaps the doc quotes are large: each at least 2x
     c = [results[m]["cpu_per_tau"] for m in measured]
     assert c[1] > 2 * c[0] and c[2] > 2 * c[1]
+
+
+def test_calibrated_slip_marble_follows_basset():
+    b_asked, L, T, t_eq, seed = 1.0, 10.0, 500.0, 20.0, 104
+    g, g_err = slip.gamma_for_slip_length(b_asked, surface="marble", radius=R)
+    b, b_err = slip.slip_length_for_gamma(g, "marble")
+    eta, eta_err = adv.load_table()["models"]["marble"]["eta"]
+    sc = adv.Scene("marble", R, L, seed, "partial", warmup=0.0, gamma=g)
+    F = 0.12 / th.diffusion_coefficient(eta, R, L, b)
+    v, cpu, _ = sc.drag_series(F, T, t_eq)
+    vm, ve = block_average(v, min_blocks=8)
+    D = vm / F
+    err = max(ve, math.sqrt(2 * max(D, 1e-12) / T)) / F
+
+    def ratio(bb, eta_=eta):   # D(inf) / Basset at slip length bb
+        basset = th.diffusion_coefficient(eta_, R, math.inf, bb)
+        return (D + basset - th.diffusion_coefficient(eta_, R, L, bb)) / basset
+
+    dev = ratio(b) - 1.0
+    s_cal = 0.5 * abs(ratio(b + b_err) - ratio(b - b_err))
+    s_eta = abs(ratio(b, eta + eta_err) - ratio(b))
+    sigma = math.sqrt((err / th.diffusion_coefficient(eta, R, math.inf, b)) ** 2 + s_cal ** 2
+                      + s_eta ** 2)
+    print(f"calibrated marble b = {b:.3f} +/- {b_err:.3f}: gamma = {g:.4f} +/- {g_err:.4f}; "
+          f"D(L) = {D:.5f} +/- {err:.5f}, D(inf) / Basset - 1 = {100 * dev:+.1f} +/- "
+          f"{100 * sigma:.1f} % (calibration {100 * s_cal:.1f} %), {cpu / T:.4f} CPU-s per unit time")
+    assert abs(dev) < 3 * sigma, (dev, sigma)

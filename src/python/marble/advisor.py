@@ -65,39 +65,48 @@ class Scene:
     """The measured scenes (bench/three_solvents.py, doc/choosing-a-model.md): a colloid of radius R in a cubic box L of one of the three solvents.
     Attributes: system, colloid, model, R, L, dt, n_solvent, solvent_mass."""
 
+    def _keep(self, s, col, n_solvent):
+        """Keep the system, the colloid and the solvent's size."""
+        self.system, self.colloid = s, col
+        self.n_solvent = int(n_solvent)
+        self.solvent_mass = float(n_solvent)
+
     def _zero_momentum_and_keep(self, s, col):
         """Give the solvent the opposite of the colloid's momentum (total zero)
         and keep the system, the colloid and the solvent's size."""
         sol = s.part.select(type=0)
         p = col.mass * np.asarray(col.v) + np.sum(sol.v, axis=0)
         sol.v = np.asarray(sol.v) - p / len(sol)
-        self.system, self.colloid = s, col
-        self.n_solvent = len(sol)
-        self.solvent_mass = float(len(sol))
+        self._keep(s, col, len(sol))
 
-    def __init__(self, model, R, L, seed, boundary="stick", warmup=5.0):
+    def __init__(self, model, R, L, seed, boundary="stick", warmup=5.0, gamma=None):
+        """``boundary``: "stick" or "slip" (the model's two surfaces, BOUNDARY);
+        for the marble also "partial": the tunable-slip coupling with surface
+        friction ``gamma`` (e.g. from marble.slip.gamma_for_slip_length)."""
+        if boundary not in ("stick", "slip", "partial"):
+            raise ValueError(f"parameter 'boundary' must be 'stick', 'slip' or 'partial', "
+                             f"got {boundary!r}")
+        if boundary == "partial" and (model != "marble" or gamma is None):
+            raise ValueError("parameter 'boundary': 'partial' needs model='marble' and a "
+                             "surface friction 'gamma' > 0")
         self.model, self.R, self.L, self.boundary = model, float(R), float(L), boundary
+        self.gamma = None if gamma is None else _pos("gamma", gamma)
         getattr(self, "_make_" + model)(seed)
         self.system.integrator.run(int(round(warmup / self.dt)))
 
-    # (a) marble colloid, paper DPD solvent
+    # (a) marble colloid, paper DPD solvent (colloid_runs.marble_box), Shardlow
     def _make_marble(self, seed):
-        from .colloids import add_marble
+        from .colloid_runs import marble_box
         st = SETTINGS["marble"]
-        L, R = self.L, self.R
-        s = System(box_l=[L] * 3)
-        self.dt = s.time_step = st["dt"]
-        s.cell_system.skin = 0.5
-        rng = np.random.default_rng(seed)
-        n = int(round(st["rho"] * L ** 3))
-        s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * math.sqrt(KT), type=0)
-        s.thermostat.set_dpd(kT=KT, seed=seed)
-        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=st["gamma_dpd"], k=1,
-                                                r_cut=1.0)
-        coupling = "tunable_slip" if self.boundary == "stick" else "dpd"
-        col = add_marble(s, pos=[L / 2] * 3, radius=R, gamma=st["gamma_marble"], coupling=coupling)
+        self.dt = st["dt"]
+        # stick: tunable slip at gamma = 5; slip: central forces only; partial: tunable slip at gamma
+        coupling = "dpd" if self.boundary == "slip" else "tunable_slip"
+        gamma = self.gamma if self.boundary == "partial" else st["gamma_marble"]
+        s, col, sol = marble_box(self.L, self.R, gamma, seed, rho=st["rho"],
+                                 gamma_dpd=st["gamma_dpd"], kT=KT, dt=st["dt"], coupling=coupling,
+                                 skin=0.5)
         s.integrator.set_shardlow()
-        self._zero_momentum_and_keep(s, col)
+        self._keep(s, col, len(sol))
 
     # (b) SRD solvent, stochastic (stick) or specular (slip) colloid
     def _make_srd(self, seed):

@@ -25,15 +25,16 @@ QUICK = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
 
 
 def marble_box(L, R, gamma, seed, rho=RHO, gamma_dpd=GAMMA_DPD, kT=KT, dt=DT, marble_r_cut=1.0,
-               coupling="tunable_slip"):
+               coupling="tunable_slip", skin=0.4):
     """The marble paper's solvent (density rho, DPD gamma_dpd, w = 1 - r, r_c = 1,
     no conservative force) in a periodic cube of side L with one neutrally
     buoyant marble (add_marble defaults) of radius R and surface friction
-    ``gamma`` at the centre; total momentum zero, no equilibration.
-    Returns (system, colloid, solvent)."""
+    ``gamma`` at the centre; total momentum zero, no equilibration; Verlet
+    ``skin`` of the cell system. The integrator is left at its default
+    (velocity Verlet). Returns (system, colloid, solvent)."""
     system = System(box_l=[L] * 3)
     system.time_step = dt
-    system.cell_system.skin = 0.4
+    system.cell_system.skin = skin
     rng = np.random.default_rng(seed)
     n = int(round(rho * L ** 3))
     system.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)) * np.sqrt(kT), type=0)

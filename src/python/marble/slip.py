@@ -241,6 +241,125 @@ def analyse(poiseuille, couette, body_force, wall_velocity, fit_min=2.25, fit_ma
     return out
 
 
+def slip_length_at_boundary(z_P, z_P_err, z_0, z_0_err, z_B, height):
+    """delta_B of one two-flow run when the hydrodynamic boundary z_B is known.
+
+    With z_B fixed, both zeros give delta_B linearly (analyse's relations)::
+
+      Couette:     z_0 = z_B - delta_B
+                   delta_C = z_B - z_0
+      Poiseuille:  z_P (L - z_P) = z_B (L - z_B) + delta_B (2 z_B - L)
+                   delta_P = [z_B (L - z_B) - z_P (L - z_P)] / (L - 2 z_B)
+
+    with errors sigma(z_0) and abs(L - 2 z_P) / (L - 2 z_B) sigma(z_P). Returns
+    (delta_B, its error, delta_C, delta_P): the weighted mean of the two, whose
+    error is of the order of the zeros' (~0.01-0.02), against the
+    ~(L/2b) sigma(z) of the unconstrained d2 route. The error of z_B itself is
+    not included (it is common to every run analysed with the same z_B)."""
+    L = float(height)
+    d_c, s_c = z_B - z_0, z_0_err
+    d_p = (z_B * (L - z_B) - z_P * (L - z_P)) / (L - 2.0 * z_B)
+    s_p = abs(L - 2.0 * z_P) / (L - 2.0 * z_B) * z_P_err
+    w_c, w_p = 1.0 / s_c ** 2, 1.0 / s_p ** 2
+    return ((w_c * d_c + w_p * d_p) / (w_c + w_p), 1.0 / np.sqrt(w_c + w_p), d_c, d_p)
+
+
+def common_boundary_fit(points, height):
+    """Joint analysis of the wall calibration points with one hydrodynamic
+    boundary z_B for all of them (doc/walls.md, "Resolution near b = 0.5").
+
+    Each point's two-flow run fixes z_B and delta_B exactly (two zeros, two
+    unknowns), but near b ~ 0.5 the pair is ill-conditioned: delta_B^2 ~
+    (z_P - z_0) L, so delta_B's error is ~(L / 2 b) times the zeros'. The
+    measured z_B does not depend on gamma_L within its errors (doc/walls.md), so
+    one z_B is fitted to all points (chi^2 of delta_C - delta_P, see
+    slip_length_at_boundary, minimised over z_B) and each delta_B follows from
+    its own zeros at that z_B. ``points``: dicts with z_P, z_P_err, z_0,
+    z_0_err (calibrate()'s wall points); ``height``: the channel height.
+
+    Returns a dict: z_B, z_B_err (Delta chi^2 = 1), chi2, dof (= points - 1: the
+    consistency test of a common z_B), and per point (lists) delta_B,
+    delta_B_err_stat (z_B held fixed), delta_B_err (with z_B's error, which
+    moves every point the same way: d delta_B / d z_B ~ 1)."""
+    pts = [p for p in points if np.isfinite(p.get("z_P", np.nan)) and np.isfinite(p.get("z_0", np.nan))]
+    if len(pts) < 2:
+        raise ValueError("common_boundary_fit needs >= 2 points with finite z_P and z_0")
+    L = float(height)
+
+    def chi2(zb):
+        c = 0.0
+        for p in pts:
+            _, _, dc, dp = slip_length_at_boundary(p["z_P"], p["z_P_err"], p["z_0"], p["z_0_err"],
+                                                   zb, L)
+            sp = abs(L - 2.0 * p["z_P"]) / (L - 2.0 * zb) * p["z_P_err"]
+            c += (dc - dp) ** 2 / (p["z_0_err"] ** 2 + sp ** 2)
+        return c
+
+    grid = np.linspace(0.0, 0.4 * L, 801)
+    vals = np.array([chi2(z) for z in grid])
+    k = int(np.argmin(vals))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    for _ in range(100):   # golden section on the bracket
+        m1, m2 = lo + 0.382 * (hi - lo), lo + 0.618 * (hi - lo)
+        if chi2(m1) < chi2(m2):
+            hi = m2
+        else:
+            lo = m1
+    zb = 0.5 * (lo + hi)
+    c0 = chi2(zb)
+    h = 1e-3
+    curv = (chi2(zb + h) - 2.0 * c0 + chi2(zb - h)) / h ** 2
+    zb_err = float(np.sqrt(2.0 / curv)) if curv > 0 else np.inf
+    out = {"z_B": float(zb), "z_B_err": zb_err, "chi2": float(c0), "dof": len(pts) - 1,
+           "delta_B": [], "delta_B_err_stat": [], "delta_B_err": []}
+    for p in points:
+        if p not in pts:
+            for key in ("delta_B", "delta_B_err_stat", "delta_B_err"):
+                out[key].append(float("nan"))
+            continue
+        args = (p["z_P"], p["z_P_err"], p["z_0"], p["z_0_err"])
+        d, e = slip_length_at_boundary(*args, zb, L)[:2]
+        slope = (slip_length_at_boundary(*args, zb + h, L)[0]
+                 - slip_length_at_boundary(*args, zb - h, L)[0]) / (2 * h)
+        out["delta_B"].append(float(d))
+        out["delta_B_err_stat"].append(float(e))
+        out["delta_B_err"].append(float(np.hypot(e, slope * zb_err)))
+    return out
+
+
+def refit_common_boundary(curve, out=None):
+    """A wall calibration curve (dict or path, calibrate()'s format) re-analysed
+    with common_boundary_fit: every point's b becomes the delta_B at the common
+    z_B (b_err includes z_B's error); the two-flow values are kept as
+    b_two_flow, b_two_flow_err, and measurement['estimator'] records the fit
+    (z_B, z_B_err, chi2, dof). Points with delta_B <= 0 get use = False.
+    Written to ``out`` if given; returns the new dict."""
+    import copy
+    data = copy.deepcopy(load_curve("wall", curve))
+    height = data["measurement"]["height"]
+    for p in data["points"]:   # a second refit starts from the two-flow values
+        if "b_two_flow" in p:
+            p["b"], p["b_err"] = p["b_two_flow"], p["b_two_flow_err"]
+    fit = common_boundary_fit(data["points"], height)
+    for p, d, e, es in zip(data["points"], fit["delta_B"], fit["delta_B_err"],
+                           fit["delta_B_err_stat"]):
+        p["b_two_flow"], p["b_two_flow_err"] = p["b"], p["b_err"]
+        if np.isfinite(d):
+            p.update(b=d, b_err=e, b_err_stat=es, use=bool(d > 0))
+    data["measurement"]["estimator"] = {
+        "name": "common_boundary", "z_B": fit["z_B"], "z_B_err": fit["z_B_err"],
+        "chi2": fit["chi2"], "dof": fit["dof"],
+        "note": "b = delta_B at one hydrodynamic boundary z_B for all points "
+                "(marble.slip.common_boundary_fit); b_two_flow: each point's own z_B"}
+    if out is not None:
+        tmp = out + ".tmp"
+        with open(tmp, "w") as f:
+            json.dump(data, f, indent=1)
+            f.write("\n")
+        os.replace(tmp, out)
+    return data
+
+
 def measure_slip(marble, gamma_L, n_steps=200000, equil_steps=10000, body_force=0.1,
                  wall_velocity=3.0, height=10.0, box_xy=6.0, seed=1, rho=3.0, n_blocks=20,
                  fit_min=None, progress=None, **channel_kwargs):
