@@ -80,6 +80,24 @@ def test_check_scene_flags_unneeded_features():
     assert "unneeded_rotation" not in codes
     s = _scene()
     s.non_bonded_inter[1, 1].contact.set_params(f_contact=100.0, delta=0.01, offset=4.0)
+    s.cell_system.large_range_types = None      # one cell grid: the kernel's range sets it
+    assert "unneeded_colloid_pairs" in {w["code"] for w in adv.check_scene(s, "D")}
+
+    # a core-modified colloid (DPD on the gap) goes on the second cell grid by default:
+    # its colloid-pair kernels then cost nothing and are not flagged
+    s = marble.System(box_l=[8.0] * 3)
+    s.time_step = 0.01
+    rng = np.random.default_rng(2)
+    s.part.add(pos=rng.random((300, 3)) * 8.0, type=0)
+    s.part.add(pos=[4.0] * 3, type=1)
+    s.thermostat.set_dpd(kT=1.0, seed=1)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1, r_cut=1.0)
+    s.non_bonded_inter[1, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1, r_cut=1.0, offset=2.0)
+    s.non_bonded_inter[1, 1].contact.set_params(f_contact=100.0, delta=0.01, offset=4.0)
+    s.integrator.run(0)
+    assert 1 in s.cell_system.get_state()["large_range_types"]
+    assert "unneeded_colloid_pairs" not in {w["code"] for w in adv.check_scene(s, "D")}
+    s.cell_system.large_range_types = None
     assert "unneeded_colloid_pairs" in {w["code"] for w in adv.check_scene(s, "D")}
 
 

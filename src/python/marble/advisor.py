@@ -471,6 +471,18 @@ def _active(handle, kind):
         return False
 
 
+def _on_second_grid(system, ptype):
+    """True if @p ptype is served by the coarse second cell grid (doc/architecture.md):
+    listed in cell_system.large_range_types, or chosen there by "auto" at the
+    last list rebuild."""
+    mode = system.cell_system.large_range_types
+    if mode is None:
+        return False
+    if mode != "auto":
+        return ptype in mode
+    return ptype in system.cell_system.get_state()["large_range_types"]
+
+
 def check_scene(system, observable="D", verbose=False):
     """Warnings (list of dicts with 'code', 'message') for features of the scene in
     ``system`` that ``observable`` does not need and that only cost time:
@@ -483,7 +495,10 @@ def check_scene(system, observable="D", verbose=False):
       Morse) between solvent particles: D, D_rot and the viscosity need only
       the solvent's viscosity, and a fluid without it (the marble paper's) is
       cheaper per step;
-    - ``unneeded_colloid_pairs``: contact/lubrication kernels with a single colloid.
+    - ``unneeded_colloid_pairs``: contact/lubrication kernels with a single
+      colloid whose type is not on the second cell grid (with
+      ``cell_system.large_range_types = "auto"`` it is, after the first list
+      build, and the kernels cost nothing).
     """
     if observable not in OBSERVABLES:
         raise ValueError(f"parameter 'observable' must be one of {OBSERVABLES}, got {observable!r}")
@@ -535,13 +550,14 @@ def check_scene(system, observable="D", verbose=False):
     for c in sorted(colloid_types):
         n_c = len(system.part.select(type=c))
         kinds = [k for k in _COLLOID_PAIR if _active(inter[c, c], k)]
-        if n_c <= 1 and kinds:
+        if n_c <= 1 and kinds and not _on_second_grid(system, c):
             out.append(dict(code="unneeded_colloid_pairs", value=kinds, types=(c, c),
                             message=f"colloid type {c} has {n_c} particle: its {', '.join(kinds)} "
-                                    "kernel(s) never act, but outside the marble colloid pair list "
-                                    "their range sets the cell grid (measured: 7.6x the CPU per "
-                                    "step of a core-modified colloid "
-                                    "at R = 2, L = 11 with contact and DPD on the colloid pair)"))
+                                    "kernel(s) never act, but with one cell grid "
+                                    "(cell_system.large_range_types) their range sets the cell "
+                                    "grid of every particle (measured: 7.6x the CPU per step of a "
+                                    "core-modified colloid at R = 2, L = 11 with contact and DPD on "
+                                    "the colloid pair; 14.9x in bench/suspension_cost.py)"))
     if verbose:
         for w in out:
             print("warning:", w["message"])
