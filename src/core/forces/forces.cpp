@@ -4,6 +4,7 @@
 // kernel list, generated), so a scene pays only for the kernels some type
 // pair uses.
 #include "forces/pair_force.hpp"
+#include "forces/pair_simd.hpp"
 #include "forces/pair_traversal.hpp"
 #include "system/System.hpp"
 #include "thermostats/langevin.hpp"
@@ -11,6 +12,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -21,9 +24,76 @@ using Utils::Vector3d;
 namespace {
 
 
+/** Kernels with a SIMD form (forces/pair_simd.hpp). */
+constexpr unsigned simd_kernels() {
+  unsigned m = 0;
+  if constexpr (compiled<Hat>)
+    m |= pair_loop_bit<Hat>;
+  if constexpr (compiled<DPDPair>)
+    m |= pair_loop_bit<DPDPair>;
+  return m;
+}
+
+/** The loop of a one-type scene whose kernels all have a SIMD form: per block,
+ * gather the pairs into structures of arrays, draw the noise and compute the
+ * forces in SIMD lanes, then add them up in list order (the summation order
+ * of the scalar loop). */
+template <unsigned Mask>
+void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
+                    NoiseContext const &th, SimdPairParams const &sp) {
+  auto const *const pos = ps.pos.data();
+  auto const *const vel = ps.v.data();
+  auto const *const pid = ps.id.data();
+  auto *const frc = ps.f.data();
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+  constexpr bool mass = true;
+#else
+  constexpr bool mass = false;
+#endif
+  bool const dpd = sp.dpd;
+  auto soa = std::make_unique<PairBlockSoA>();
+  alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
+  alignas(64) std::array<double, kPairBlock> sign;
+  Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
+  for_each_pair_block(ps, pairs, ia, [&](PairBlock const &b) {
+    int const n = b.size;
+    for (int s = 0; s < n; ++s) {
+      int const i = b.i[s], j = b.j[s];
+      Vector3d const d = pos[i] - pos[j];
+      soa->dx[s] = d[0], soa->dy[s] = d[1], soa->dz[s] = d[2];
+    }
+    if (dpd) {
+      for (int s = 0; s < n; ++s) {
+        int const i = b.i[s], j = b.j[s];
+        Vector3d const v = vel[i] - vel[j];
+        soa->vx[s] = v[0], soa->vy[s] = v[1], soa->vz[s] = v[2];
+        int const a = pid[i], c = pid[j];
+        bool const flip = !(a < c);
+        lo[s] = static_cast<std::uint32_t>(flip ? c : a);
+        hi[s] = static_cast<std::uint32_t>(flip ? a : c);
+        sign[s] = flip ? -1. : 1.;
+        if constexpr (mass)
+          soa->m[s] = pair_mass_factor(ps, i, j);
+      }
+      pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), soa->xx, soa->xy, soa->xz);
+    }
+    pair_block_forces(sp, mass, n, *soa);
+    for (int s = 0; s < n; ++s) {
+      Vector3d const f{soa->fx[s], soa->fy[s], soa->fz[s]};
+      frc[b.i[s]] += f;
+      frc[b.j[s]] -= f;
+    }
+  });
+}
+
 template <unsigned Mask>
 void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                NoiseContext const &th) {
+  if constexpr (Mask != 0 && (Mask & ~simd_kernels()) == 0) {
+    SimdPairParams sp;
+    if (ia.n_types() == 1 && simd_pair_params(ia.get(0, 0), Mask, sp))
+      return pair_loop_simd<Mask>(ps, pairs, ia, th, sp);
+  }
   auto const *const pos = ps.pos.data();
   auto const *const vel = ps.v.data();
   auto *const frc = ps.f.data();
