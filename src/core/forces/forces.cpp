@@ -34,16 +34,17 @@ constexpr unsigned simd_kernels() {
   return m;
 }
 
-/** The loop of a one-type scene whose kernels all have a SIMD form: per block,
- * gather the pairs into structures of arrays, draw the noise and compute the
+/** The loop of a one-type scene whose kernels all have a SIMD form: per block
+ * of listed pairs, select those within the cutoff and gather them into
+ * structures of arrays (one pass, no branch), draw the noise and compute the
  * forces in SIMD lanes, then add them up in list order (the summation order
  * of the scalar loop). */
 template <unsigned Mask>
 void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                     NoiseContext const &th, SimdPairParams const &sp) {
-  auto const *const pos = ps.pos.data();
-  auto const *const vel = ps.v.data();
-  auto const *const pid = ps.id.data();
+  auto const *__restrict const pos = ps.pos.data();
+  auto const *__restrict const vel = ps.v.data();
+  auto const *__restrict const pid = ps.id.data();
   auto *const frc = ps.f.data();
 #if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
   constexpr bool mass = true;
@@ -51,39 +52,49 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   constexpr bool mass = false;
 #endif
   bool const dpd = sp.dpd;
+  double const cut2 = ia.get(0, 0).max_cut2;
   auto soa = std::make_unique<PairBlockSoA>();
+  PairBlockSoA &B = *soa;
+  alignas(64) std::array<int, kPairBlock> bi, bj;
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
-  for_each_pair_block(ps, pairs, ia, [&](PairBlock const &b) {
-    int const n = b.size;
-    for (int s = 0; s < n; ++s) {
-      int const i = b.i[s], j = b.j[s];
-      Vector3d const d = pos[i] - pos[j];
-      soa->dx[s] = d[0], soa->dy[s] = d[1], soa->dz[s] = d[2];
+  std::size_t const n_pairs = pairs.size();
+  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
+    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
+    auto const *const blk = pairs.data() + b0;
+    int n = 0;
+    for (int q = 0; q < nb; ++q) {
+      int const i = blk[q][0], j = blk[q][1];
+      double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
+      bi[n] = i, bj[n] = j;
+      B.dx[n] = dx, B.dy[n] = dy, B.dz[n] = dz;
+      // a NaN distance is kept (the force check reports it)
+      n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
     }
     if (dpd) {
       for (int s = 0; s < n; ++s) {
-        int const i = b.i[s], j = b.j[s];
-        Vector3d const v = vel[i] - vel[j];
-        soa->vx[s] = v[0], soa->vy[s] = v[1], soa->vz[s] = v[2];
-        int const a = pid[i], c = pid[j];
-        bool const flip = !(a < c);
-        lo[s] = static_cast<std::uint32_t>(flip ? c : a);
-        hi[s] = static_cast<std::uint32_t>(flip ? a : c);
-        sign[s] = flip ? -1. : 1.;
+        int const i = bi[s], j = bj[s];
+        B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
+        // ordered ids and the sign by id order, in bit arithmetic: the order
+        // of a pair's ids is random, a branch on it would be mispredicted
+        auto const a = static_cast<std::uint32_t>(pid[i]), c = static_cast<std::uint32_t>(pid[j]);
+        std::uint32_t const less = a < c, m = 0u - less; // all ones if a < c
+        lo[s] = (a & m) | (c & ~m);
+        hi[s] = (c & m) | (a & ~m);
+        sign[s] = static_cast<double>(static_cast<int>(2 * less) - 1);
         if constexpr (mass)
-          soa->m[s] = pair_mass_factor(ps, i, j);
+          B.m[s] = pair_mass_factor(ps, i, j);
       }
-      pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), soa->xx, soa->xy, soa->xz);
+      pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
-    pair_block_forces(sp, mass, n, *soa);
+    pair_block_forces(sp, mass, n, B);
     for (int s = 0; s < n; ++s) {
-      Vector3d const f{soa->fx[s], soa->fy[s], soa->fz[s]};
-      frc[b.i[s]] += f;
-      frc[b.j[s]] -= f;
+      Vector3d const f{B.fx[s], B.fy[s], B.fz[s]};
+      frc[bi[s]] += f;
+      frc[bj[s]] -= f;
     }
-  });
+  }
 }
 
 template <unsigned Mask>

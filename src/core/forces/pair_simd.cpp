@@ -63,44 +63,81 @@ bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out) {
   return !other;
 }
 
-MARBLE_PAIR_SIMD_CLONES
-void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
-  bool const hat = p.hat, dpd = p.dpd, trans = p.trans;
+namespace {
+
+/** The loop body for one set of switches (hoisted out of the loop so that
+ * it has no branch left and vectorises). */
+template <bool Hat, bool Dpd, bool Trans, bool Mass>
+[[gnu::always_inline]] inline void block_forces(SimdPairParams const &p, int n, PairBlockSoA &b) {
   double const fmax = p.hat_fmax, hcut = p.hat_cut, hoff = p.hat_off;
   double const doff = p.dpd_off, gamma = p.gamma, rc = p.rc, pref = p.pref;
   double const tgamma = p.tgamma, trc = p.trc, tpref = p.tpref;
   bool const wf1 = p.wf == 1, twf1 = p.twf == 1;
+  // wf 0: w = 1 - 0 (x / 1); a zero r_cut divides by 1 (its w is 0 anyway)
+  double const rc_div = wf1 && rc > 0. ? rc : 1., trc_div = twf1 && trc > 0. ? trc : 1.;
+  double const wsel = wf1 ? 1. : 0., twsel = twf1 ? 1. : 0.;
+  double *__restrict const fxo = b.fx, *__restrict const fyo = b.fy, *__restrict const fzo = b.fz;
+  double const *__restrict const dxs = b.dx, *__restrict const dys = b.dy, *__restrict const dzs = b.dz;
+  double const *__restrict const vxs = b.vx, *__restrict const vys = b.vy, *__restrict const vzs = b.vz;
+  double const *__restrict const xxs = b.xx, *__restrict const xys = b.xy, *__restrict const xzs = b.xz;
+  double const *__restrict const ms = b.m;
   for (int s = 0; s < n; ++s) {
-    double const dx = b.dx[s], dy = b.dy[s], dz = b.dz[s];
+    double const dx = dxs[s], dy = dys[s], dz = dzs[s];
     double const r = std::sqrt(dx * dx + dy * dy + dz * dz);
-    double const rinv = r != 0. ? 1. / r : 0.; // a NaN distance stays NaN (the force check)
-    double fac = 0.;
-    if (hat) {
+    // 1/r, 0 at r = 0; a NaN distance stays NaN (the force check reports it).
+    // Selects between constants and always-safe divisions: no branch is left.
+    double const nz = r != 0. ? 1. : 0.;
+    double const rinv = nz / (r + (1. - nz));
+    double fx = 0., fy = 0., fz = 0.;
+    if constexpr (Hat) {
       double const x = r - hoff;
-      fac = !(x >= hcut) ? fmax * (1. - x / hcut) * rinv : 0.;
+      double const in = !(x >= hcut) ? 1. : 0.;
+      double const fac = in * (fmax * (1. - x / hcut) * rinv);
+      fx = fac * dx, fy = fac * dy, fz = fac * dz;
     }
-    double fx = fac * dx, fy = fac * dy, fz = fac * dz;
-    if (dpd) {
+    if constexpr (Dpd) {
       double const ex = dx * rinv, ey = dy * rinv, ez = dz * rinv;
-      double const vx = b.vx[s], vy = b.vy[s], vz = b.vz[s];
-      double const xx = b.xx[s], xy = b.xy[s], xz = b.xz[s];
+      double const vx = vxs[s], vy = vys[s], vz = vzs[s];
+      double const xx = xxs[s], xy = xys[s], xz = xzs[s];
       double const ev = ex * vx + ey * vy + ez * vz;
       double const exi = ex * xx + ey * xy + ez * xz;
-      double const mf = mass ? b.m[s] : 1.;
-      double const sq_m = mass ? std::sqrt(mf) : 1.;
+      double const mf = Mass ? ms[s] : 1.;
+      double const sq_m = Mass ? std::sqrt(mf) : 1.;
       double const x = std::max(r - doff, 0.);
-      double const w = !(x >= rc) ? (wf1 ? 1. - x / rc : 1.) : 0.;
+      double const w = (!(x >= rc) ? 1. : 0.) * (1. - wsel * (x / rc_div));
       double const mag = -gamma * mf * w * w * ev + pref * sq_m * w * exi;
       fx += mag * ex, fy += mag * ey, fz += mag * ez;
-      if (trans) {
-        double const wt = !(x >= trc) ? (twf1 ? 1. - x / trc : 1.) : 0.;
+      if constexpr (Trans) {
+        double const wt = (!(x >= trc) ? 1. : 0.) * (1. - twsel * (x / trc_div));
         double const a = -tgamma * mf * wt * wt, c = tpref * sq_m * wt;
         fx += a * (vx - ev * ex) + c * (xx - exi * ex);
         fy += a * (vy - ev * ey) + c * (xy - exi * ey);
         fz += a * (vz - ev * ez) + c * (xz - exi * ez);
       }
     }
-    b.fx[s] = fx, b.fy[s] = fy, b.fz[s] = fz;
+    fxo[s] = fx, fyo[s] = fy, fzo[s] = fz;
+  }
+}
+
+} // namespace
+
+MARBLE_PAIR_SIMD_CLONES
+void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
+  unsigned const sw = (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) | (p.dpd && p.trans ? 4u : 0u) |
+                      (p.dpd && mass ? 8u : 0u);
+  switch (sw) {
+  case 1: return block_forces<true, false, false, false>(p, n, b);
+  case 2: return block_forces<false, true, false, false>(p, n, b);
+  case 3: return block_forces<true, true, false, false>(p, n, b);
+  case 6: return block_forces<false, true, true, false>(p, n, b);
+  case 7: return block_forces<true, true, true, false>(p, n, b);
+  case 10: return block_forces<false, true, false, true>(p, n, b);
+  case 11: return block_forces<true, true, false, true>(p, n, b);
+  case 14: return block_forces<false, true, true, true>(p, n, b);
+  case 15: return block_forces<true, true, true, true>(p, n, b);
+  default:
+    for (int s = 0; s < n; ++s)
+      b.fx[s] = b.fy[s] = b.fz[s] = 0.;
   }
 }
 
