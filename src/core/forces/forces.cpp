@@ -55,7 +55,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   double const cut2 = ia.get(0, 0).max_cut2;
   auto soa = std::make_unique<PairBlockSoA>();
   PairBlockSoA &B = *soa;
-  alignas(64) std::array<int, kPairBlock> bi, bj;
+  alignas(64) std::array<int, kPairBlock> bi, bj, sel;
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
@@ -63,14 +63,21 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
     int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
     auto const *const blk = pairs.data() + b0;
+    // select: the index of each pair within range (one store per listed pair),
+    // then gather the selected pairs (pairs of one i follow each other: the
+    // list is built per particle i)
     int n = 0;
     for (int q = 0; q < nb; ++q) {
       int const i = blk[q][0], j = blk[q][1];
       double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
-      bi[n] = i, bj[n] = j;
-      B.dx[n] = dx, B.dy[n] = dy, B.dz[n] = dz;
+      sel[n] = q;
       // a NaN distance is kept (the force check reports it)
       n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
+    }
+    for (int s = 0; s < n; ++s) {
+      int const i = blk[sel[s]][0], j = blk[sel[s]][1];
+      bi[s] = i, bj[s] = j;
+      B.dx[s] = pos[i][0] - pos[j][0], B.dy[s] = pos[i][1] - pos[j][1], B.dz[s] = pos[i][2] - pos[j][2];
     }
     if (dpd) {
       for (int s = 0; s < n; ++s) {
