@@ -26,12 +26,7 @@ namespace {
 
 /** Kernels with a SIMD form (forces/pair_simd.hpp). */
 constexpr unsigned simd_kernels() {
-  unsigned m = 0;
-  if constexpr (compiled<Hat>)
-    m |= pair_loop_bit<Hat>;
-  if constexpr (compiled<DPDPair>)
-    m |= pair_loop_bit<DPDPair>;
-  return m;
+  return pair_loop_bit_if_compiled<Hat>() | pair_loop_bit_if_compiled<DPDPair>();
 }
 
 /** The loop of a one-type scene whose kernels all have a SIMD form: per block

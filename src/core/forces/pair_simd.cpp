@@ -23,36 +23,31 @@ namespace Marble {
 
 bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out) {
   out = {};
-  unsigned handled = 0;
-  if constexpr (compiled<Hat>) {
-    handled |= pair_loop_bit<Hat>;
-    auto const &h = ia.get<Hat>();
-    if ((mask & pair_loop_bit<Hat>) && h.active) {
-      out.hat = true;
-      out.hat_fmax = h.F_max, out.hat_cut = h.cutoff, out.hat_off = h.offset;
-    }
+  unsigned const hat_bit = pair_loop_bit_if_compiled<Hat>(), dpd_bit = pair_loop_bit_if_compiled<DPDPair>();
+  unsigned const handled = hat_bit | dpd_bit;
+  auto const &h = ia.get<Hat>(); // reads as off where HAT is not compiled in
+  if ((mask & hat_bit) && h.active) {
+    out.hat = true;
+    out.hat_fmax = h.F_max, out.hat_cut = h.cutoff, out.hat_off = h.offset;
   }
-  if constexpr (compiled<DPDPair>) {
-    handled |= pair_loop_bit<DPDPair>;
-    auto const &d = ia.get<DPDPair>();
-    if ((mask & pair_loop_bit<DPDPair>) && d.active) {
-      auto ok = [](DPDWeight const &w) { return w.weight_function == 0 || (w.weight_function == 1 && w.k == 1.); };
-      if (!ok(d.radial))
-        return false;
-      out.dpd = true;
-      out.dpd_off = d.offset;
-      out.wf = d.radial.weight_function, out.gamma = d.radial.gamma, out.rc = d.radial.r_cut;
-      out.pref = d.radial.pref_noise;
+  auto const &d = ia.get<DPDPair>();
+  if ((mask & dpd_bit) && d.active) {
+    auto ok = [](DPDWeight const &w) { return w.weight_function == 0 || (w.weight_function == 1 && w.k == 1.); };
+    if (!ok(d.radial))
+      return false;
+    out.dpd = true;
+    out.dpd_off = d.offset;
+    out.wf = d.radial.weight_function, out.gamma = d.radial.gamma, out.rc = d.radial.r_cut;
+    out.pref = d.radial.pref_noise;
 #ifdef TRANS_DPD
-      if (d.trans.gamma > 0.) {
-        if (!ok(d.trans))
-          return false;
-        out.trans = true;
-        out.twf = d.trans.weight_function, out.tgamma = d.trans.gamma, out.trc = d.trans.r_cut;
-        out.tpref = d.trans.pref_noise;
-      }
-#endif
+    if (d.trans.gamma > 0.) {
+      if (!ok(d.trans))
+        return false;
+      out.trans = true;
+      out.twf = d.trans.weight_function, out.tgamma = d.trans.gamma, out.trc = d.trans.r_cut;
+      out.tpref = d.trans.pref_noise;
     }
+#endif
   }
   // any other kernel of the mask active for this pair: no SIMD form
   bool other = false;

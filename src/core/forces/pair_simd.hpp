@@ -9,6 +9,14 @@
 
 namespace Marble {
 
+/** pair_loop_bit<K>, 0 for a kernel not compiled in. */
+template <class K> constexpr unsigned pair_loop_bit_if_compiled() {
+  if constexpr (compiled<K>)
+    return pair_loop_bit<K>;
+  else
+    return 0u;
+}
+
 /** One type pair's kernels in the form the SIMD block takes (off: 0 gain). */
 struct SimdPairParams {
   bool hat = false;
