@@ -2,9 +2,10 @@
 """The pair noise of the dissipative pair kernels (Philox4x32-10,
 src/utils/include/utils/philox4x32.hpp): the reference implementation of
 reference_noise.py against the Random123 known-answer vectors, and the
-engine's DPD forces of a 200-particle fluid (SIMD block path) and of one pair
-with a seed and step counter beyond 2^32 (the high key and counter words)
-against it to 1e-12. The statistics of the generator (mean, variance 1/12,
+engine's DPD (+ hat) forces of a 200-particle fluid against a brute-force sum
+with it to 1e-12: one type and two types with the same kernels (the SIMD
+block loop), two types with different ones (the generic loop), and a seed and
+step counter beyond 2^32 (the high key and counter words). The statistics of the generator (mean, variance 1/12,
 correlations between components, neighbouring keys and steps) are tested in
 testsuite/core/philox4x32_test.cpp."""
 import unittest
@@ -29,16 +30,25 @@ class PairNoise(unittest.TestCase):
         for ctr, key, out in kat:
             self.assertEqual(philox4x32(ctr, key), out)
 
-    def fluid_forces(self, seed, counter, n=200, L=4.0, kT=1.3, gamma=4.5, hat=0.0):
+    def fluid_forces(self, seed, counter, n=200, L=4.0, kT=1.3, gamma=4.5, hat=0.0, gamma01=None):
+        """Forces of n particles against a brute-force sum. With gamma01, half
+        the particles are type 1 and the pairs (0, 0), (0, 1), (1, 1) have DPD
+        (gamma, gamma01, gamma): equal gammas take the SIMD loop (one set of
+        kernels on every type pair), unequal ones the generic loop."""
         rng = np.random.default_rng(3)
         s = marble.System(box_l=[L] * 3)
         s.time_step = 0.01
         s.cell_system.skin = 0.3
         pos, v = rng.random((n, 3)) * L, rng.normal(size=(n, 3))
-        s.part.add(pos=pos, v=v)
-        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma, k=1.0, r_cut=1.0)
-        if hat > 0 and marble.has_features("HAT"):
-            s.non_bonded_inter[0, 0].hat.set_params(F_max=hat, cutoff=1.0)
+        types = np.zeros(n, dtype=int) if gamma01 is None else np.arange(n) % 2
+        s.part.add(pos=pos, v=v, type=types)
+        pairs = [(0, 0)] if gamma01 is None else [(0, 0), (0, 1), (1, 1)]
+        g = {}
+        for a, b in pairs:
+            g[a, b] = g[b, a] = gamma if a == b else gamma01
+            s.non_bonded_inter[a, b].dpd.set_params(weight_function=1, gamma=g[a, b], k=1.0, r_cut=1.0)
+            if hat > 0 and marble.has_features("HAT"):
+                s.non_bonded_inter[a, b].hat.set_params(F_max=hat, cutoff=1.0)
         s.thermostat.set_dpd(kT=kT, seed=seed)
         s.thermostat.dpd.philox_counter = counter
         s.integrator.run(0)
@@ -46,17 +56,18 @@ class PairNoise(unittest.TestCase):
         f = s.part.all().f
         # brute force reference over all minimum-image pairs
         ref = np.zeros((n, 3))
-        pref = np.sqrt(24.0 * kT * gamma / s.time_step)
         for a in range(n):
             d = pos[a] - pos[a + 1:]
             d -= L * np.round(d / L)
             r = np.linalg.norm(d, axis=1)
             for k in np.nonzero(r < 1.0)[0]:
                 b = a + 1 + k
+                gab = g[types[a], types[b]]
+                pref = np.sqrt(24.0 * kT * gab / s.time_step)
                 e = d[k] / r[k]
                 w = 1.0 - r[k]
                 xi = pair_noise(seed, SALT_DPD, counter, ids[a], ids[b])
-                fa = (-gamma * w * w * (e @ (v[a] - v[b])) + pref * w * (e @ xi)) * e
+                fa = (-gab * w * w * (e @ (v[a] - v[b])) + pref * w * (e @ xi)) * e
                 if hat > 0 and marble.has_features("HAT"):
                     fa += hat * (1.0 - r[k]) * e
                 ref[a] += fa
@@ -68,6 +79,12 @@ class PairNoise(unittest.TestCase):
 
     def test_fluid_with_hat(self):
         self.fluid_forces(seed=5, counter=9, hat=25.0)
+
+    def test_two_types_same_kernels(self):
+        self.fluid_forces(seed=11, counter=3, hat=25.0, gamma01=4.5)
+
+    def test_two_types_different_kernels(self):
+        self.fluid_forces(seed=11, counter=3, hat=25.0, gamma01=2.0)
 
     def test_large_seed_and_counter(self):
         self.fluid_forces(seed=(1 << 40) + 12345, counter=(1 << 33) + 7, n=60)

@@ -29,12 +29,12 @@ constexpr unsigned simd_kernels() {
   return pair_loop_bit_if_compiled<Hat>() | pair_loop_bit_if_compiled<DPDPair>();
 }
 
-/** The loop of a one-type scene whose kernels all have a SIMD form: per block
+/** The loop of a scene whose list-served type pairs all have the same kernels,
+ * each with a SIMD form (simd_scene_params): per block
  * of listed pairs, select those within the cutoff and gather them into
  * structures of arrays (one pass, no branch), draw the noise and compute the
  * forces in SIMD lanes, then add them up in list order (the summation order
  * of the scalar loop). */
-template <unsigned Mask>
 void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                     NoiseContext const &th, SimdPairParams const &sp) {
   auto const *__restrict const pos = ps.pos.data();
@@ -47,7 +47,14 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   constexpr bool mass = false;
 #endif
   bool const dpd = sp.dpd;
-  double const cut2 = ia.get(0, 0).max_cut2;
+  // the squared cutoff of each type pair (0 for pairs the list does not serve)
+  int const nt = ia.n_types();
+  std::vector<double> cut2_table(static_cast<std::size_t>(nt) * nt);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < nt; ++b)
+      cut2_table[a * nt + b] = ia.get(a, b).max_cut2;
+  double const cut2 = nt > 0 ? cut2_table[0] : 0.;
+  auto const *const typ = ps.type.data();
   auto soa = std::make_unique<PairBlockSoA>();
   PairBlockSoA &B = *soa;
   alignas(64) std::array<int, kPairBlock> bi, bj, sel;
@@ -62,12 +69,21 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
     // then gather the selected pairs (pairs of one i follow each other: the
     // list is built per particle i)
     int n = 0;
-    for (int q = 0; q < nb; ++q) {
-      int const i = blk[q][0], j = blk[q][1];
-      double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
-      sel[n] = q;
-      // a NaN distance is kept (the force check reports it)
-      n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
+    if (nt == 1) {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
+        sel[n] = q;
+        // a NaN distance is kept (the force check reports it)
+        n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
+      }
+    } else {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
+        sel[n] = q;
+        n += !(dx * dx + dy * dy + dz * dz >= cut2_table[typ[i] * nt + typ[j]]) ? 1 : 0;
+      }
     }
     for (int s = 0; s < n; ++s) {
       int const i = blk[sel[s]][0], j = blk[sel[s]][1];
@@ -102,10 +118,12 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
 template <unsigned Mask>
 void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                NoiseContext const &th) {
-  if constexpr (Mask != 0 && (Mask & ~simd_kernels()) == 0) {
+  // kernels of the mask active only on pairs the list does not serve (e.g.
+  // colloid pairs) do not keep a scene from the SIMD form
+  if constexpr ((Mask & simd_kernels()) != 0) {
     SimdPairParams sp;
-    if (ia.n_types() == 1 && simd_pair_params(ia.get(0, 0), Mask, sp))
-      return pair_loop_simd<Mask>(ps, pairs, ia, th, sp);
+    if (simd_scene_params(ia, Mask, sp))
+      return pair_loop_simd(ps, pairs, ia, th, sp);
   }
   auto const *const pos = ps.pos.data();
   auto const *const vel = ps.v.data();

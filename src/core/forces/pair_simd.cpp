@@ -58,6 +58,25 @@ bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out) {
   return !other;
 }
 
+bool simd_scene_params(InteractionTable const &ia, unsigned mask, SimdPairParams &out) {
+  int const nt = ia.n_types();
+  bool found = false;
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < nt; ++b) {
+      IAParams const &p = ia.get(a, b);
+      if (!(p.max_cut2 > 0.))
+        continue; // never selected from the list
+      SimdPairParams q;
+      if (!simd_pair_params(p, mask, q))
+        return false;
+      if (found && !(q == out))
+        return false;
+      out = q;
+      found = true;
+    }
+  return found;
+}
+
 namespace {
 
 /** The loop body for one set of switches (hoisted out of the loop so that

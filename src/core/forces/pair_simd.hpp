@@ -28,6 +28,7 @@ struct SimdPairParams {
   double gamma = 0., rc = 0., pref = 0.;
   bool trans = false;
   double tgamma = 0., trc = 0., tpref = 0.;
+  bool operator==(SimdPairParams const &) const = default;
 };
 
 /** The block's pairs as structures of arrays: d = r_i - r_j, v = v_i - v_j,
@@ -46,5 +47,10 @@ void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &
 
 /** The SIMD form of a type pair's parameters, or false where it has none. */
 bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out);
+
+/** The SIMD form shared by every type pair the main Verlet list serves
+ * (max_cut2 > 0: e.g. all but the colloid pairs of a marble scene), or false
+ * where they differ or one has no SIMD form. */
+bool simd_scene_params(InteractionTable const &ia, unsigned mask, SimdPairParams &out);
 
 } // namespace Marble
