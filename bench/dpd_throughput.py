@@ -185,22 +185,30 @@ def run_lammps(exe, text):
 
 
 def philox_cost():
-    """ns per pair of the DPD noise (bench/philox_cost.cpp), or None if no
-    C++ compiler is found."""
+    """ns per pair of the DPD pair noise (bench/philox_cost.cpp): the block
+    draw the pair loop uses now (Philox4x32-10 in SIMD lanes) and, for
+    comparison, the old Philox4x64-10 draw; None if no C++ compiler is found."""
     cxx = shutil.which("c++") or shutil.which("g++") or shutil.which("clang++")
     if cxx is None:
         return None
     src = os.path.join(HERE, "philox_cost.cpp")
-    inc = os.path.join(HERE, os.pardir, "src", "utils", "include")
+    root = os.path.join(HERE, os.pardir, "src")
     with tempfile.TemporaryDirectory() as d:
         exe = os.path.join(d, "philox_cost")
-        p = subprocess.run([cxx, "-O3", "-std=c++20", "-I" + inc, src, "-o", exe],
+        p = subprocess.run([cxx, "-O3", "-std=c++20", "-I" + os.path.join(root, "utils", "include"),
+                            "-I" + os.path.join(root, "core"), src,
+                            os.path.join(root, "core", "forces", "pair_noise.cpp"), "-o", exe],
                            capture_output=True, text=True)
         if p.returncode != 0:
             return None
         out = subprocess.run([exe], capture_output=True, text=True).stdout
-    m = re.search(r"ns_per_pair ([0-9.]+)", out)
-    return float(m.group(1)) if m else None
+    path = re.search(r"pair_loop_path (\w+)", out)
+    now = re.search(rf"philox4x32_10_block_{path.group(1)}_ns_per_pair ([0-9.]+)", out) if path else None
+    old = re.search(r"philox4x64_10_ns_per_pair ([0-9.]+)", out)
+    if not now:
+        return None
+    return {"ns_per_pair": float(now.group(1)), "path": path.group(1),
+            "philox4x64_ns_per_pair": float(old.group(1)) if old else None}
 
 
 # --------------------------------------------------------------------------
@@ -356,14 +364,15 @@ def main():
     log(line)
 
     # ---- what limits it: the noise ------------------------------------------
-    ns = philox_cost()
-    if ns is not None:
+    cost = philox_cost()
+    if cost is not None:
+        ns = cost["ns_per_pair"]
         pairs = 3.0 * 4.0 / 3.0 * np.pi / 2.0  # pairs within r_c per particle at rho = 3
         ref = out["dpd"].get("a0_g5_dt0.01_L20", {}).get("marble", {}).get("median")
         share = ns * 1e-9 * pairs * ref if ref else None
-        out["philox"] = {"ns_per_pair": ns, "pairs_per_particle": pairs,
-                         "share_of_step_a0_g5_dt0.01_L20": share}
-        log(f"Philox4x64-10 noise: {ns:.2f} ns per pair, {pairs:.2f} pairs per particle"
+        out["philox"] = dict(cost, pairs_per_particle=pairs, **{"share_of_step_a0_g5_dt0.01_L20": share})
+        log(f"pair noise (Philox4x32-10 block, {cost['path']}): {ns:.2f} ns per pair "
+            f"(old Philox4x64-10: {cost['philox4x64_ns_per_pair']:.2f}), {pairs:.2f} pairs per particle"
             + (f" -> {100 * share:.0f} % of the a0_g5 dt=0.01 step" if share else ""))
 
     jpath = os.path.join(args.out, "dpd_throughput.json")

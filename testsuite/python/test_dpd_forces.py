@@ -1,6 +1,6 @@
 # labels: python
 """DPD pair forces against an independent Python implementation of
-reference.md section 1 (incl. Philox4x64-10 noise), to 1e-11 relative:
+reference.md section 1 (incl. the Philox4x32-10 pair noise), to 1e-11 relative:
 both weight functions, k != 1, transverse part, pairs across the periodic
 boundary, exact antisymmetry, DPD_MASS_* factors, momentum conservation."""
 import itertools
@@ -14,14 +14,14 @@ if not marble.has_features("DPD"):
     raise unittest.SkipTest("missing feature DPD")
 from unittest_decorators import skipIfMissingFeatures
 
-from reference_noise import SALT_DPD, uniform3
+from reference_noise import SALT_DPD, pair_uniform3
 
 
 def noise(seed, counter, a, b):
-    """Uniform 3-vector in (-1/2, 1/2] of the unordered pair (a, b), sign by id order."""
+    """Uniform 3-vector in (-1/2, 1/2) of the unordered pair (a, b), sign by id order."""
     a, b = int(a), int(b)
     lo, hi = min(a, b), max(a, b)
-    xi = uniform3(seed, SALT_DPD, counter, lo, hi)
+    xi = pair_uniform3(seed, SALT_DPD, counter, lo, hi)
     return xi if a < b else -xi
 
 

@@ -12,7 +12,7 @@ import unittest
 import numpy as np
 
 import marble
-from reference_noise import uniform3
+from reference_noise import pair_uniform3
 from unittest_decorators import skipIfMissingFeatures
 
 SALT_LUB = 16  # RNGSalt::lubrication
@@ -69,7 +69,7 @@ class Lubrication(unittest.TestCase):
         v1, v2 = (self.rng.normal(size=3), self.rng.normal(size=3)) if v else (np.zeros(3),) * 2
         s, p1, p2 = make_pair(prm, kT, x1, x2, v1, v2, ids=ids)
         sign = 1.0 if ids[0] < ids[1] else -1.0
-        xi = sign * uniform3(5, SALT_LUB, 11, min(ids), max(ids))
+        xi = sign * pair_uniform3(5, SALT_LUB, 11, min(ids), max(ids))
         f_ref = ref_force(prm, x1 - x2, v1 - v2, xi, kT, DT)
         scale = max(np.max(np.abs(f_ref)), 1e-300)
         np.testing.assert_allclose(p1.f, f_ref, rtol=0, atol=1e-12 * scale)

@@ -4,6 +4,7 @@
 // kernel list, generated), so a scene pays only for the kernels some type
 // pair uses.
 #include "forces/pair_force.hpp"
+#include "forces/pair_simd.hpp"
 #include "forces/pair_traversal.hpp"
 #include "system/System.hpp"
 #include "thermostats/langevin.hpp"
@@ -11,6 +12,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -21,9 +24,107 @@ using Utils::Vector3d;
 namespace {
 
 
+/** Kernels with a SIMD form (forces/pair_simd.hpp). */
+constexpr unsigned simd_kernels() {
+  return pair_loop_bit_if_compiled<Hat>() | pair_loop_bit_if_compiled<DPDPair>();
+}
+
+/** The loop of a scene whose list-served type pairs all have the same kernels,
+ * each with a SIMD form (simd_scene_params): per block
+ * of listed pairs, select those within the cutoff and gather them into
+ * structures of arrays (one pass, no branch), draw the noise and compute the
+ * forces in SIMD lanes, then add them up in list order (the summation order
+ * of the scalar loop). */
+void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
+                    NoiseContext const &th, SimdPairParams const &sp) {
+  auto const *__restrict const pos = ps.pos.data();
+  auto const *__restrict const vel = ps.v.data();
+  auto const *__restrict const pid = ps.id.data();
+  auto *const frc = ps.f.data();
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+  constexpr bool mass = true;
+#else
+  constexpr bool mass = false;
+#endif
+  bool const dpd = sp.dpd;
+  // the squared cutoff of each type pair (0 for pairs the list does not serve)
+  int const nt = ia.n_types();
+  std::vector<double> cut2_table(static_cast<std::size_t>(nt) * nt);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < nt; ++b)
+      cut2_table[a * nt + b] = ia.get(a, b).max_cut2;
+  double const cut2 = nt > 0 ? cut2_table[0] : 0.;
+  auto const *const typ = ps.type.data();
+  auto soa = std::make_unique<PairBlockSoA>();
+  PairBlockSoA &B = *soa;
+  alignas(64) std::array<int, kPairBlock> bi, bj, sel;
+  alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
+  alignas(64) std::array<double, kPairBlock> sign;
+  Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
+  std::size_t const n_pairs = pairs.size();
+  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
+    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
+    auto const *const blk = pairs.data() + b0;
+    // select: the index of each pair within range (one store per listed pair),
+    // then gather the selected pairs (pairs of one i follow each other: the
+    // list is built per particle i)
+    int n = 0;
+    if (nt == 1) {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
+        sel[n] = q;
+        // a NaN distance is kept (the force check reports it)
+        n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
+      }
+    } else {
+      for (int q = 0; q < nb; ++q) {
+        int const i = blk[q][0], j = blk[q][1];
+        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
+        sel[n] = q;
+        n += !(dx * dx + dy * dy + dz * dz >= cut2_table[typ[i] * nt + typ[j]]) ? 1 : 0;
+      }
+    }
+    for (int s = 0; s < n; ++s) {
+      int const i = blk[sel[s]][0], j = blk[sel[s]][1];
+      bi[s] = i, bj[s] = j;
+      B.dx[s] = pos[i][0] - pos[j][0], B.dy[s] = pos[i][1] - pos[j][1], B.dz[s] = pos[i][2] - pos[j][2];
+    }
+    if (dpd) {
+      for (int s = 0; s < n; ++s) {
+        int const i = bi[s], j = bj[s];
+        B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
+        // ordered ids and the sign by id order, in bit arithmetic: the order
+        // of a pair's ids is random, a branch on it would be mispredicted
+        auto const a = static_cast<std::uint32_t>(pid[i]), c = static_cast<std::uint32_t>(pid[j]);
+        std::uint32_t const less = a < c, m = 0u - less; // all ones if a < c
+        lo[s] = (a & m) | (c & ~m);
+        hi[s] = (c & m) | (a & ~m);
+        sign[s] = static_cast<double>(static_cast<int>(2 * less) - 1);
+        if constexpr (mass)
+          B.m[s] = pair_mass_factor(ps, i, j);
+      }
+      pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
+    }
+    pair_block_forces(sp, mass, n, B);
+    for (int s = 0; s < n; ++s) {
+      Vector3d const f{B.fx[s], B.fy[s], B.fz[s]};
+      frc[bi[s]] += f;
+      frc[bj[s]] -= f;
+    }
+  }
+}
+
 template <unsigned Mask>
 void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                NoiseContext const &th) {
+  // kernels of the mask active only on pairs the list does not serve (e.g.
+  // colloid pairs) do not keep a scene from the SIMD form
+  if constexpr ((Mask & simd_kernels()) != 0) {
+    SimdPairParams sp;
+    if (simd_scene_params(ia, Mask, sp))
+      return pair_loop_simd(ps, pairs, ia, th, sp);
+  }
   auto const *const pos = ps.pos.data();
   auto const *const vel = ps.v.data();
   auto *const frc = ps.f.data();

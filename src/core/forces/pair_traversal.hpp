@@ -7,6 +7,7 @@
 // caller works on the selected pairs of the block, in list order, so the
 // summation order (and the trajectory) is that of a plain one-pass loop. A
 // NaN distance is kept (the force check reports it).
+#include "forces/pair_noise.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
 #include "thermostats/NoiseContext.hpp"
@@ -78,29 +79,36 @@ void for_each_pair(ParticleStore const &ps, PairList const &pairs, InteractionTa
 }
 
 /** The pair noise of a symmetric dissipative kernel (reference.md section 1):
- * keyed by the unordered pair of ids, signed by id order so that F_j = -F_i. */
+ * Philox4x32-10 keyed by (seed, salt, step) and the unordered pair of ids,
+ * signed by id order so that F_j = -F_i (utils/philox4x32.hpp). */
 inline Utils::Vector3d pair_noise(NoiseContext const &n, Utils::RNGSalt salt, int id_i, int id_j) {
   bool const flip = !(id_i < id_j);
-  Utils::Vector3d const x =
-      Utils::noise_uniform(n.seed, salt, n.counter, static_cast<std::uint64_t>(flip ? id_j : id_i),
-                           static_cast<std::uint64_t>(flip ? id_i : id_j));
-  return flip ? -x : x;
+  Utils::PairNoiseKey const k(n.seed, static_cast<std::uint64_t>(salt), n.counter);
+  auto const x = Utils::pair_uniform3(k, static_cast<std::uint32_t>(flip ? id_j : id_i),
+                                      static_cast<std::uint32_t>(flip ? id_i : id_j));
+  Utils::Vector3d const v{x[0], x[1], x[2]};
+  return flip ? -v : v;
 }
 
-/** The noise of kernel @p K for the pairs of block @p b whose type pair has it
- * active: independent draws the CPU overlaps (the noise is the largest cost). */
+/** The noise of kernel @p K for the pairs of block @p b (the same numbers as
+ * pair_noise), drawn for the whole block at once in SIMD lanes
+ * (forces/pair_noise.cpp). Pairs whose type pair lacks K get a draw too
+ * (unused): cheaper than a branch. */
 template <class K>
-void draw_block_noise(PairBlock const &b, ParticleStore const &ps, InteractionTable const &ia,
+void draw_block_noise(PairBlock const &b, ParticleStore const &ps, [[maybe_unused]] InteractionTable const &ia,
                       NoiseContext const &n, std::array<Utils::Vector3d, kPairBlock> &xi) {
-  auto const *const typ = ps.type.data();
   auto const *const pid = ps.id.data();
-  bool const one_type = ia.n_types() == 1;
+  alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
+  alignas(64) std::array<double, kPairBlock> sign;
   for (int s = 0; s < b.size; ++s) {
-    int const i = b.i[s], j = b.j[s];
-    if (!one_type && !ia.get(typ[i], typ[j]).template get<K>().active)
-      continue;
-    xi[s] = pair_noise(n, K::salt, pid[i], pid[j]);
+    int const a = pid[b.i[s]], c = pid[b.j[s]];
+    bool const flip = !(a < c);
+    lo[s] = static_cast<std::uint32_t>(flip ? c : a);
+    hi[s] = static_cast<std::uint32_t>(flip ? a : c);
+    sign[s] = flip ? -1. : 1.;
   }
+  pair_noise_block(Utils::PairNoiseKey(n.seed, static_cast<std::uint64_t>(K::salt), n.counter), b.size,
+                   lo.data(), hi.data(), sign.data(), xi.data());
 }
 
 /** M_ij of the pair (DPD_MASS_RED / DPD_MASS_LIN; 1 otherwise). */

@@ -1,0 +1,56 @@
+#pragma once
+// The pair forces of a block of pairs in SIMD lanes (forces/pair_simd.cpp), for
+// the common kernel sets: the Groot-Warren hat and the DPD pair thermostat
+// (weight function 0, or 1 with k = 1; TRANS_DPD; the DPD_MASS_* factors;
+// offsets). forces.cpp takes this path where every type pair of the scene is
+// served by it, the generic scalar loop (pair_force.hpp) everywhere else, so a
+// kernel without a SIMD form works as before (doc/adding-an-interaction.md).
+#include "forces/pair_traversal.hpp"
+
+namespace Marble {
+
+/** pair_loop_bit<K>, 0 for a kernel not compiled in. */
+template <class K> constexpr unsigned pair_loop_bit_if_compiled() {
+  if constexpr (compiled<K>)
+    return pair_loop_bit<K>;
+  else
+    return 0u;
+}
+
+/** One type pair's kernels in the form the SIMD block takes (off: 0 gain). */
+struct SimdPairParams {
+  bool hat = false;
+  double hat_fmax = 0., hat_cut = 1., hat_off = 0.;
+  bool dpd = false;
+  double dpd_off = 0.;
+  // radial and transverse weight: w = 1 (wf 0) or 1 - x / r_cut (wf 1, k = 1), 0 beyond r_cut
+  int wf = 0, twf = 0;
+  double gamma = 0., rc = 0., pref = 0.;
+  bool trans = false;
+  double tgamma = 0., trc = 0., tpref = 0.;
+  bool operator==(SimdPairParams const &) const = default;
+};
+
+/** The block's pairs as structures of arrays: d = r_i - r_j, v = v_i - v_j,
+ * xi the signed noise, m the pair mass factor (used with DPD_MASS_*). */
+struct PairBlockSoA {
+  alignas(64) double dx[kPairBlock], dy[kPairBlock], dz[kPairBlock];
+  alignas(64) double vx[kPairBlock], vy[kPairBlock], vz[kPairBlock];
+  alignas(64) double xx[kPairBlock], xy[kPairBlock], xz[kPairBlock];
+  alignas(64) double m[kPairBlock];
+  alignas(64) double fx[kPairBlock], fy[kPairBlock], fz[kPairBlock];
+};
+
+/** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
+ * @p mass: use b.m (DPD_MASS_*), else M = 1. */
+void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b);
+
+/** The SIMD form of a type pair's parameters, or false where it has none. */
+bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out);
+
+/** The SIMD form shared by every type pair the main Verlet list serves
+ * (max_cut2 > 0: e.g. all but the colloid pairs of a marble scene), or false
+ * where they differ or one has no SIMD form. */
+bool simd_scene_params(InteractionTable const &ia, unsigned mask, SimdPairParams &out);
+
+} // namespace Marble
