@@ -53,7 +53,7 @@ def expected_fractions():
     return np.array(out)
 
 
-def run_pairs(noise, n_samples=60000, every=10, seed=7):
+def run_pairs(noise, n_samples=96000, every=10, seed=7):
     s = marble.System(box_l=[L] * 3)
     s.time_step = DT
     s.cell_system.skin = 0.4
