@@ -32,6 +32,8 @@ and the CPU time to 1 % and 5 % statistical error in D(inf):
 T_eps = T (sigma_D / (eps D(inf)))^2 (error ~ 1/sqrt(T)).
 
 Sections (--part, comma separated; default all): eta, drag, gk, paper, probe, plot.
+`--part retime` (alone) re-times the advisor's package table with the current code
+(retime_package: after a change of the engine's speed).
 "paper" measures only the CPU cost per unit time at R = 3, L = 15 (short runs);
 the statistical errors there are extrapolated (doc/choosing-a-model.md says which).
 
@@ -625,6 +627,61 @@ def write_package_data(summary):
     log(f"wrote {path}")
 
 
+RETIME_T = {"marble": 20.0, "srd": 60.0, "core": 1.0}
+
+
+def retime_package():
+    """Re-measure the CPU cost of the advisor's table with the current code.
+
+    The table's accuracies (var_T, systematic errors) do not depend on the
+    code's speed, its CPU costs do: after a change of the pair loop (issue 15's
+    SIMD loop, x1.5 for the DPD solvent) or of the cell grid (the second grid
+    for colloids, ~3x for the core colloid) the measured CPU per unit time and
+    the probe speed stored with it go stale. Each (model, R, L) of the table
+    is re-timed over RETIME_T time units (cost_case) next to a new probe; every
+    CPU entry of that model at that (R, L) is scaled by new/old cpu_per_tau,
+    the viscosity run's by the factor of the model's drag scene (the same
+    solvent). Writes the package table in place, with the factors."""
+    import subprocess
+    path = os.path.join(ROOT, "src", "python", "marble", "data", "three_solvents.json")
+    with open(path) as f:
+        t = json.load(f)
+    speed = probe_speed()
+    old_speed = t["probe_particle_steps_per_cpu_s"]
+    factors = {}
+    for model, m in t["models"].items():
+        for key, e in m.items():
+            if not (isinstance(e, dict) and "cpu_per_tau" in e):
+                continue
+            rl = (e["R"], e["L"])
+            if (model, rl) not in factors:
+                c = cost_case(model, e["R"], e["L"], RETIME_T[model])
+                factors[(model, rl)] = c["cpu_per_tau"] / e["cpu_per_tau"]
+                log(f"retime {model} R = {e['R']:g} L = {e['L']:g}: {e['cpu_per_tau']:.4g} -> "
+                    f"{c['cpu_per_tau']:.4g} CPU-s per unit time (probe {old_speed:.3g} -> "
+                    f"{speed:.3g})")
+            f_ = factors[(model, rl)]
+            for k in ("cpu_per_tau", "cpu_1", "cpu_5"):
+                if k in e:
+                    e[k] *= f_
+        drag = m.get("drag")
+        if "eta_run" in m and drag:
+            m["eta_run"]["cpu_s"] *= factors[(model, (drag["R"], drag["L"]))]
+    try:
+        rev = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True).stdout.strip()
+    except OSError:
+        rev = ""
+    t["probe_particle_steps_per_cpu_s"] = speed
+    t["retimed"] = dict(git=rev, date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+                        old_probe=old_speed, probe=speed,
+                        factors={f"{m} R={rl[0]:g} L={rl[1]:g}": v for (m, rl), v in factors.items()})
+    t["ranking_cpu_per_time"] = sorted(t["models"], key=lambda k: t["models"][k]["drag"]["cpu_per_tau"])
+    with open(path, "w") as f:
+        json.dump(jsonable(t), f, indent=1)
+    log(f"wrote {path}")
+
+
 def plot(rows, prow, datas, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -675,6 +732,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
     parts = a.part.split(",")
+    if parts == ["retime"]:
+        retime_package()
+        return
     for m in a.model.split(","):
         if m not in MODELS:
             raise ValueError(f"parameter '--model': {m!r} is not one of {MODELS}")

@@ -258,37 +258,26 @@ def n_particles(model, R, L):
     return int(round(_DENSITY[model] * (L ** 3 - 4.0 / 3.0 * math.pi * R ** 3))) + 1
 
 
-def _range3(model, R):
-    """Cube of the longest pair range + skin of a scene: the core colloid's
-    colloid-solvent range (R + r'_c) sets the cell grid of every particle."""
-    if model == "core":
-        from . import suspensions as sus
-        return (sus.equal_volume_cutoff(R) + 0.4) ** 3
-    return 1.0
-
-
 def cpu_per_time(model, R, L, speed=None, table=None):
     """Estimated CPU-seconds per unit simulated time of a ``model`` scene (colloid
     radius R, cubic box L) on this machine: the measured cost per particle-step
-    (at R = 2 and R = 3), interpolated linearly in the cube of the scene's
-    longest interaction range + skin (core colloid) or in R (the others),
+    (at R = 2 and R = 3), interpolated linearly in R (constant outside),
     times this scene's particles and steps per unit time, times (measuring
-    machine's probe speed / this machine's)."""
+    machine's probe speed / this machine's). The core colloid's range no
+    longer sets the solvent's cell grid (the second grid for colloids), so
+    its cost per particle-step, like the others', depends on R only weakly."""
     _check_model(model)
     R, L = _pos("R", R), _pos("L", L)
     t = table or load_table()
     m = t["models"][model]
     pts = sorted((c["R"], c["cpu_per_tau"] * c["dt"] / c["N"]) for c in
                  (m[k] for k in ("drag", "paper") if k in m))
-    x = [(_range3(model, r) if model == "core" else r) for r, _ in pts]
+    x = [r for r, _ in pts]
     y = [c for _, c in pts]
-    xq = _range3(model, R) if model == "core" else R
     if len(pts) == 1 or abs(x[-1] - x[0]) < 1e-12:
         per_particle_step = y[0]
-    elif model == "core":   # linear in range^3, extrapolated too (cell volume law)
-        per_particle_step = y[0] + (y[-1] - y[0]) * (xq - x[0]) / (x[-1] - x[0])
     else:                   # linear in R between the measured radii, constant outside
-        per_particle_step = float(np.interp(xq, x, y))
+        per_particle_step = float(np.interp(R, x, y))
     dt = model_dt(model, R, t)
     cost = per_particle_step * n_particles(model, R, L) / dt
     if speed is None:
