@@ -9,6 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace Marble::Srd {
 
@@ -28,13 +29,17 @@ void fold(Vector3d &x, Vector3d const &L) {
   }
 }
 
-// The colloids an SRD fluid sees: local MD particles of a type with an
-// active boundary for some SRD type.
+// The colloids an SRD fluid sees: MD particles of a type with an active
+// boundary for some SRD type, gathered from every rank (sorted by id): an
+// SRD particle may meet a colloid owned by another rank; the momentum handed
+// to a colloid is summed over the ranks and applied by its owner.
 struct ColloidRef {
-  int index;
+  int index; // local index on the owning rank, -1 on the others
+  int rank, id, type;
   Vector3d R, V, W;
   double M, I;
 };
+static_assert(std::is_trivially_copyable_v<ColloidRef>);
 } // namespace
 
 void Fluid::check_geometry(BoxGeometry const &box, double dt) {
@@ -76,24 +81,33 @@ BoundaryParams Fluid::boundary(int c, int s) const {
 bool Fluid::any_boundary() const { return m_ia && m_ia->any_active<SRDBoundary>(); }
 
 namespace {
+// Collective (the interaction table, hence any_boundary(), is the same on every rank).
 std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
   std::vector<ColloidRef> out;
   if (!f.any_boundary())
     return out;
   auto const &ps = s.particles();
+  int const me = s.comm().rank();
   for (int i = 0; i < ps.n_local(); ++i) {
     bool any = false;
     for (int t = 0; t < Fluid::max_type && !any; ++t)
       any = f.boundary(ps.type[i], t).active;
     if (!any)
       continue;
-    ColloidRef c{i, ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
+    ColloidRef c{i, me, ps.id[i], ps.type[i], ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
 #ifdef ROTATION
     c.W = ps.omega[i];
     c.I = ps.rotation[i] ? ps.rinertia[i] : 0.;
 #endif
     out.push_back(c);
   }
+  if (s.comm().parallel()) {
+    out = s.comm().allgatherv(out);
+    for (auto &c : out)
+      if (c.rank != me)
+        c.index = -1;
+  }
+  std::sort(out.begin(), out.end(), [](ColloidRef const &a, ColloidRef const &b) { return a.id < b.id; });
   return out;
 }
 } // namespace
@@ -105,13 +119,13 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
     return 0;
   auto const &box = s.box();
   auto const &L = box.length();
-  auto const &ps = s.particles();
   int moved = 0;
-  for (int i = 0; i < size(); ++i) {
+  std::string err;
+  for (int i = 0; i < size() && err.empty(); ++i) {
     for (int attempt = 0;; ++attempt) {
       bool inside = false;
       for (auto const &c : cols) {
-        auto const b = boundary(ps.type[c.index], type[i]);
+        auto const b = boundary(c.type, type[i]);
         if (b.active && box.get_mi_vector(pos[i], c.R).norm2() < b.radius * b.radius) {
           inside = true;
           break;
@@ -121,9 +135,10 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
         break;
       if (attempt == 0)
         ++moved;
-      if (attempt > 10000)
-        throw Utils::RuntimeError("SRD: no free place found for particle " + std::to_string(id[i]) +
-                                  ": the colloids fill the box");
+      if (attempt > 10000) {
+        err = "SRD: no free place found for particle " + std::to_string(id[i]) + ": the colloids fill the box";
+        break;
+      }
       auto const u = Utils::noise_uniform(m_p.seed, Utils::RNGSalt::srd_init, key,
                                           static_cast<std::uint64_t>(id[i]),
                                           1000 + static_cast<std::uint64_t>(attempt));
@@ -132,15 +147,20 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
       fold(pos[i], L);
     }
   }
-  return moved;
+  s.comm().throw_if_any(err);
+  return static_cast<int>(s.comm().sum(static_cast<long long>(moved)));
 }
+
+long long Fluid::global_size(System const &s) const { return s.comm().sum(static_cast<long long>(size())); }
 
 void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_t seed) {
   auto const &L = s.box().length();
   int next = 0;
   for (int x : id)
     next = std::max(next, x + 1);
+  next = s.comm().max(next);
   int const first = size();
+  int const me = s.comm().rank();
   double const sig = std::sqrt(kT / m_p.mass);
   Vector3d vm{};
   for (int k = 0; k < n; ++k) {
@@ -153,7 +173,9 @@ void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_
     auto const g = gauss4(seed, Utils::RNGSalt::srd_init, 1, static_cast<std::uint64_t>(pid), 0);
     Vector3d const vel = sig * Vector3d{g[0], g[1], g[2]};
     vm += vel;
-    pos.push_back(x), v.push_back(vel), id.push_back(pid), type.push_back(t);
+    // every rank draws all of them (keyed by id) and keeps those in its domain
+    if (const_cast<System &>(s).cells().owner_rank(x, s.box()) == me)
+      pos.push_back(x), v.push_back(vel), id.push_back(pid), type.push_back(t);
   }
   if (n > 1) {
     vm *= 1. / static_cast<double>(n);
@@ -186,10 +208,10 @@ int Fluid::prepare(System &s) {
   auto const cols = colloids_of(s, *this);
   for (auto const &c : cols) {
     for (int t = 0; t < max_type; ++t) {
-      auto const b = boundary(s.particles().type[c.index], t);
+      auto const b = boundary(c.type, t);
       if (b.active && b.rule != BoundaryRule::slip && !(c.I > 0.))
         throw Utils::RuntimeError(
-            "SRD: colloid " + std::to_string(s.particles().id[c.index]) +
+            "SRD: colloid " + std::to_string(c.id) +
             " has a stick boundary rule but cannot rotate (set rotation=True and rinertia, "
             "e.g. 0.4 M a^2; needs feature ROTATION)");
     }
@@ -229,7 +251,7 @@ void Fluid::stream(System &s, double dt) {
   std::vector<double> Rx(cols.size());
   for (std::size_t j = 0; j < cols.size(); ++j) {
     for (int t = 0; t < max_type; ++t)
-      r_max = std::max(r_max, boundary(ps.type[cols[j].index], t).radius);
+      r_max = std::max(r_max, boundary(cols[j].type, t).radius);
     Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
   }
   if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
@@ -245,7 +267,7 @@ void Fluid::stream(System &s, double dt) {
       dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
       if (std::abs(dx) >= r_max)
         continue;
-      auto const b = boundary(ps.type[c.index], type[i]);
+      auto const b = boundary(c.type, type[i]);
       if (!b.active)
         continue;
       Vector3d d = box.get_mi_vector(pos[i], c.R);
@@ -297,10 +319,22 @@ void Fluid::stream(System &s, double dt) {
     }
     fold(pos[i], L);
   }
+  if (s.comm().parallel()) { // impulses from every rank's SRD particles
+    std::vector<double> buf(6 * cols.size());
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      for (int d = 0; d < 3; ++d)
+        buf[6 * j + d] = dP[j][d], buf[6 * j + 3 + d] = dL[j][d];
+    s.comm().sum_inplace(buf.data(), static_cast<int>(buf.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      for (int d = 0; d < 3; ++d)
+        dP[j][d] = buf[6 * j + d], dL[j][d] = buf[6 * j + 3 + d];
+  }
   for (std::size_t j = 0; j < cols.size(); ++j) {
-    int const k = cols[j].index;
-    ps.v[k] += dP[j] / cols[j].M;
     momentum_to_colloids += dP[j];
+    int const k = cols[j].index;
+    if (k < 0)
+      continue; // owned by another rank
+    ps.v[k] += dP[j] / cols[j].M;
 #ifdef ROTATION
     if (cols[j].I > 0.)
       ps.omega[k] += dL[j] / cols[j].I;
@@ -360,7 +394,7 @@ void Fluid::md_step(System &s) {
   stream(s, s.time_step());
   ++m_n_streams;
   if (m_n_tau > 0 && m_n_streams % static_cast<std::uint64_t>(m_n_tau) == 0)
-    collide(s.box());
+    collide(s);
 }
 
 } // namespace Marble::Srd

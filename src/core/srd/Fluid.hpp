@@ -113,14 +113,21 @@ public:
   /** One MD step: stream by time_step (bouncing off colloids, handing the
    * impulses to them) and collide when due. Called after the MD drift. */
   void md_step(System &s);
-  /** One collision at the current state (grid shift, rotation/AT, thermostat). */
-  void collide(BoxGeometry const &box);
+  /** One collision at the current state (grid shift, rotation/AT, thermostat).
+   * Collective: migrates the SRD particles to the ranks owning their
+   * positions, cells straddling domain faces are reduced over the ranks. */
+  void collide(System &s);
+  /** Send every SRD particle to the rank whose domain holds it. Collective. */
+  void migrate(System &s);
+  /** Number of SRD particles on all ranks. Collective. */
+  long long global_size(System const &s) const;
 
   Drive drive;
 
-  /** Sum of momentum exchanged with colloids (diagnostics). */
+  /** Sum of momentum exchanged with colloids (diagnostics; the same on every rank). */
   Utils::Vector3d momentum_to_colloids{};
-  /** Momentum handed to the lower / upper channel wall (wall stress). */
+  /** Momentum handed to the lower / upper channel wall (wall stress): this
+   * rank's share, sum over the ranks for the total. */
   Utils::Vector3d momentum_to_wall_lo{}, momentum_to_wall_hi{};
 
 private:
@@ -134,8 +141,8 @@ private:
   std::uint64_t m_n_streams = 0;
   InteractionTable const *m_ia = nullptr; // the System's interaction table
   // collision scratch
-  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2;
-  std::vector<Utils::Vector3d> m_p2, m_v2;
+  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2, m_slot;
+  std::vector<Utils::Vector3d> m_p2, m_v2, m_xi, m_r;
 };
 
 } // namespace Srd
