@@ -240,6 +240,7 @@ void bind_srd(py::class_<System> &cls) {
     std::vector<Utils::Vector3d> x(total);
     from_array("v", a, x);
     std::copy(x.begin() + static_cast<long>(off), x.begin() + static_cast<long>(off + f.v.size()), f.v.begin());
+    f.invalidate_index();
   });
   cls.def("srd_set_pos", [](System &s, py::array_t<double> a) {
     auto &f = fluid(s);
@@ -251,6 +252,7 @@ void bind_srd(py::class_<System> &cls) {
       for (int d = 0; d < 3; ++d)
         p[d] -= L[d] * std::floor(p[d] / L[d]);
     std::copy(x.begin() + static_cast<long>(off), x.begin() + static_cast<long>(off + f.pos.size()), f.pos.begin());
+    f.invalidate_index();
   });
   cls.def("srd_collide", [](System &s) {
     auto &f = fluid(s);
@@ -302,6 +304,7 @@ void bind_srd(py::class_<System> &cls) {
       if (where[i] == s.comm().rank())
         f.pos.push_back(x[i]), f.v.push_back(u[i]), f.id.push_back(ids[i]), f.type.push_back(types[i]);
     f.set_counters(d["n_collisions"].cast<std::uint64_t>(), d["n_streams"].cast<std::uint64_t>());
+    f.invalidate_index();
     auto dr = d["drive"].cast<py::tuple>();
     f.drive.on = dr[0].cast<bool>(), f.drive.flow_dir = dr[1].cast<int>();
     f.drive.grad_dir = dr[2].cast<int>(), f.drive.g = dr[3].cast<double>();

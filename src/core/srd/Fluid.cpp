@@ -6,6 +6,7 @@
 #include "utils/errors.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -148,6 +149,8 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
     }
   }
   s.comm().throw_if_any(err);
+  if (moved > 0)
+    invalidate_index();
   return static_cast<int>(s.comm().sum(static_cast<long long>(moved)));
 }
 
@@ -182,6 +185,7 @@ void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_
     for (int i = first; i < size(); ++i)
       v[i] -= vm;
   }
+  invalidate_index();
   relocate_overlapping(const_cast<System &>(s), 0xadd0000ull + seed);
 }
 
@@ -228,12 +232,16 @@ void Fluid::stream(System &s, double dt) {
     double const h = 0.5 * L[drive.grad_dir];
     for (int i = 0; i < n; ++i)
       v[i][drive.flow_dir] += (pos[i][drive.grad_dir] < h ? drive.g : -drive.g) * dt;
+    m_vmax += std::abs(drive.g) * dt;
   }
-  if (drive.accel.norm2() > 0.)
+  if (drive.accel.norm2() > 0.) {
     for (int i = 0; i < n; ++i)
       v[i] += dt * drive.accel;
+    m_vmax += drive.accel.norm() * dt;
+  }
   if (m_p.wall_axis >= 0)
     walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
+  m_disp += m_vmax * dt;    // bound on the displacement since the last collision
   auto cols = colloids_of(s, *this);
   double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
   if (cols.empty()) {
@@ -254,70 +262,149 @@ void Fluid::stream(System &s, double dt) {
       r_max = std::max(r_max, boundary(cols[j].type, t).radius);
     Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
   }
+  double const r_search = r_max;
   if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
     r_max = INFINITY;
-  for (int i = 0; i < n; ++i) {
-    pos[i] += dt_free * v[i];
-    for (std::size_t j = 0; j < cols.size(); ++j) {
-      auto const &c = cols[j];
-      // quick rejection along x: pos (streamed once) and the folded centre
-      // differ by less than L + v dt, so one wrap gives the minimum image
-      // whenever it is shorter than r_max < L/2
-      double dx = pos[i][0] - Rx[j];
-      dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
-      if (std::abs(dx) >= r_max)
-        continue;
-      auto const b = boundary(c.type, type[i]);
-      if (!b.active)
-        continue;
-      Vector3d d = box.get_mi_vector(pos[i], c.R);
-      if (d.norm2() >= b.radius * b.radius)
-        continue;
-      // seed 003: half a step back, onto the surface along the shortest vector
-      d -= (0.5 * dt) * v[i];
-      double const r = d.norm();
-      Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
-      Vector3d const arm = b.radius * nrm; // r* - R
-      Vector3d const vloc = c.V + cross(c.W, arm);
-      Vector3d vn;
-      if (b.rule == BoundaryRule::stochastic) {
-        // eqs. (1), (2) about the surface velocity: flux-weighted normal
-        // (Rayleigh) and Maxwellian tangential components
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
-                                          static_cast<std::uint64_t>(id[i]), 1);
-        double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
-        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-        t1 *= 1. / t1.norm();
-        Vector3d const t2 = cross(nrm, t1);
-        vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
-      } else if (b.rule == BoundaryRule::bounce_back) {
-        vn = 2. * vloc - v[i];
-      } else if (b.rule == BoundaryRule::rough) {
-        // mean tangential transfer of a rough-sphere collision (fraction 2K
-        // of the relative tangential velocity reversed); the rest redrawn
-        // from the Maxwellian so the rule keeps detailed balance
-        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
-        double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-        t1 *= 1. / t1.norm();
-        Vector3d const t2 = cross(nrm, t1);
-        Vector3d const vr = v[i] - vloc;
-        Vector3d const vr_n = (vr * nrm) * nrm;
-        vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
-      } else { // slip: specular reflection in the frame of the surface
-        double const vr = (v[i] - vloc) * nrm;
-        vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
-      }
-      Vector3d const dp = m_p.mass * (v[i] - vn);
-      dP[j] += dp;
-      dL[j] += cross(arm, dp);
-      v[i] = vn;
-      pos[i] = c.R + arm + (0.5 * dt) * vn;
-      break;
+  std::uint64_t const stamp = m_n_streams + 1;
+  // the impulses of this step, summed in the order of the particle ids
+  // below (the same sums whichever search found the particles)
+  struct Impulse {
+    int pid, j;
+    Vector3d dp, dl;
+  };
+  std::vector<Impulse> impulses;
+  // the boundary rule of colloid j for particle i (streamed by this step):
+  // true if it was inside and was put back on the surface
+  auto bounce = [&](int i, std::size_t j) {
+    auto const &c = cols[j];
+    auto const b = boundary(c.type, type[i]);
+    if (!b.active)
+      return false;
+    Vector3d d = box.get_mi_vector(pos[i], c.R);
+    if (d.norm2() >= b.radius * b.radius)
+      return false;
+    // seed 003: half a step back, onto the surface along the shortest vector
+    d -= (0.5 * dt) * v[i];
+    double const r = d.norm();
+    Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
+    Vector3d const arm = b.radius * nrm; // r* - R
+    Vector3d const vloc = c.V + cross(c.W, arm);
+    Vector3d vn;
+    if (b.rule == BoundaryRule::stochastic) {
+      // eqs. (1), (2) about the surface velocity: flux-weighted normal
+      // (Rayleigh) and Maxwellian tangential components
+      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+      auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
+                                        static_cast<std::uint64_t>(id[i]), 1);
+      double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
+      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+      t1 *= 1. / t1.norm();
+      Vector3d const t2 = cross(nrm, t1);
+      vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
+    } else if (b.rule == BoundaryRule::bounce_back) {
+      vn = 2. * vloc - v[i];
+    } else if (b.rule == BoundaryRule::rough) {
+      // mean tangential transfer of a rough-sphere collision (fraction 2K
+      // of the relative tangential velocity reversed); the rest redrawn
+      // from the Maxwellian so the rule keeps detailed balance
+      constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+      double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
+      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+      t1 *= 1. / t1.norm();
+      Vector3d const t2 = cross(nrm, t1);
+      Vector3d const vr = v[i] - vloc;
+      Vector3d const vr_n = (vr * nrm) * nrm;
+      vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
+    } else { // slip: specular reflection in the frame of the surface
+      double const vr = (v[i] - vloc) * nrm;
+      vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
     }
+    Vector3d const dp = m_p.mass * (v[i] - vn);
+    impulses.push_back({id[i], static_cast<int>(j), dp, cross(arm, dp)});
+    v[i] = vn;
+    pos[i] = c.R + arm + (0.5 * dt) * vn;
     fold(pos[i], L);
+    return true;
+  };
+  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == n;
+  if (indexed) {
+    // the cell index of the last collision: a particle now within r of a
+    // colloid sat, at the sort, in a cell within r + m_disp of it; the
+    // particles bounced since the sort (m_loose) are checked one by one
+    for (int i = 0; i < n; ++i) {
+      pos[i] += dt_free * v[i];
+      fold(pos[i], L);
+    }
+    double const rr = r_search + m_disp + 1e-9 * L[0];
+    double const inv_a0 = 1. / m_p.cell_size;
+    auto const &gd = m_index_dim;
+    std::vector<int> hits;
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      Vector3d R = cols[j].R;
+      fold(R, L);
+      std::array<std::vector<int>, 3> ks;
+      for (int d = 0; d < 3; ++d) {
+        int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
+        int const k1 = static_cast<int>(std::floor((R[d] + rr - m_index_shift[d]) * inv_a0));
+        bool const wall = d == m_p.wall_axis;
+        int const nk = wall ? gd[d] - 2 : gd[d];
+        if (k1 - k0 + 1 >= nk || (wall && (k0 < 0 || k1 >= nk))) {
+          for (int k = 0; k < gd[d]; ++k)
+            ks[d].push_back(k);
+          continue;
+        }
+        for (int k = k0; k <= k1; ++k)
+          ks[d].push_back(wall ? k + 1 : ((k % nk) + nk) % nk);
+      }
+      for (int kx : ks[0])
+        for (int ky : ks[1])
+          for (int kz : ks[2]) {
+            int const g = (kx * gd[1] + ky) * gd[2] + kz;
+            for (int i = m_count[g]; i < m_count[g + 1]; ++i)
+              if (m_hit[i] != stamp && bounce(i, j)) {
+                m_hit[i] = stamp;
+                hits.push_back(i);
+              }
+          }
+    }
+    for (std::size_t k = 0; k < m_loose.size(); ++k) {
+      int const i = m_loose[k];
+      if (m_hit[i] == stamp)
+        continue;
+      for (std::size_t j = 0; j < cols.size(); ++j)
+        if (bounce(i, j)) {
+          m_hit[i] = stamp;
+          hits.push_back(i);
+          break;
+        }
+    }
+    for (int i : hits) // their displacement is no longer bounded by m_disp
+      if (!m_is_loose[i]) {
+        m_is_loose[i] = 1;
+        m_loose.push_back(i);
+      }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      pos[i] += dt_free * v[i];
+      fold(pos[i], L); // folded before the checks, as in the indexed search
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        // quick rejection along x: pos (streamed once) and the folded centre
+        // differ by less than L + v dt, so one wrap gives the minimum image
+        // whenever it is shorter than r_max < L/2
+        double dx = pos[i][0] - Rx[j];
+        dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
+        if (std::abs(dx) >= r_max)
+          continue;
+        if (bounce(i, j))
+          break;
+      }
+    }
+  }
+  std::sort(impulses.begin(), impulses.end(), [](Impulse const &a, Impulse const &b) { return a.pid < b.pid; });
+  for (auto const &h : impulses) {
+    dP[h.j] += h.dp;
+    dL[h.j] += h.dl;
   }
   if (s.comm().parallel()) { // impulses from every rank's SRD particles
     std::vector<double> buf(6 * cols.size());
@@ -381,6 +468,7 @@ void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
       }
       (lo ? momentum_to_wall_lo : momentum_to_wall_hi) += m_p.mass * (v[i] - vn);
       v[i] = vn;
+      m_vmax = std::max(m_vmax, vn.norm()); // the colloid search's displacement bound
     }
     pos[i] += t_left * v[i];
     if (pos[i][a] < 0. || pos[i][a] >= La) // pathological: still outside

@@ -121,6 +121,10 @@ public:
   void migrate(System &s);
   /** Number of SRD particles on all ranks. Collective. */
   long long global_size(System const &s) const;
+  /** Forget the cell index of the last collision (after particles were
+   * added, moved or given new velocities outside a run): the colloids then
+   * search all SRD particles until the next collision. */
+  void invalidate_index() { m_index_valid = false; }
 
   Drive drive;
 
@@ -143,6 +147,17 @@ private:
   // collision scratch
   std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2, m_slot;
   std::vector<Utils::Vector3d> m_p2, m_v2, m_xi, m_r;
+  // colloid search (stream): the particles are in the cell order of the
+  // last collision (m_count: cell starts); m_disp bounds how far any
+  // particle moved since, m_vmax the speeds; particles bounced off a colloid
+  // since then (m_loose) are checked one by one
+  bool m_index_valid = false;
+  Utils::Vector3d m_index_shift{};
+  Utils::Vector3i m_index_dim{};
+  double m_disp = 0., m_vmax = 0.;
+  std::vector<std::uint64_t> m_hit;
+  std::vector<int> m_loose;
+  std::vector<char> m_is_loose;
 };
 
 } // namespace Srd

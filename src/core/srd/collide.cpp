@@ -347,6 +347,18 @@ void Fluid::collide(System &s) {
         stage2(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
   }
+  // the cell index for the colloid search of the next streaming steps
+  double v2max = 0.;
+  for (int i = 0; i < n; ++i)
+    v2max = std::max(v2max, v[i].norm2());
+  m_vmax = std::sqrt(v2max);
+  m_disp = 0.;
+  m_index_shift = shift;
+  m_index_dim = gdim;
+  m_hit.assign(n, 0);
+  m_is_loose.assign(n, 0);
+  m_loose.clear();
+  m_index_valid = true;
   ++m_n_collisions;
 }
 
