@@ -113,6 +113,36 @@ std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
 }
 } // namespace
 
+void Fluid::near(Vector3d R, double r, Vector3d const &L, std::vector<int> &out) const {
+  // a particle now within r of R sat, at the last collision's sort, in a
+  // cell within r + m_disp of R
+  fold(R, L);
+  double const rr = r + m_disp + 1e-9 * L[0];
+  double const inv_a0 = 1. / m_p.cell_size;
+  auto const &gd = m_index_dim;
+  std::array<std::vector<int>, 3> ks;
+  for (int d = 0; d < 3; ++d) {
+    int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
+    int const k1 = static_cast<int>(std::floor((R[d] + rr - m_index_shift[d]) * inv_a0));
+    bool const wall = d == m_p.wall_axis;
+    int const nk = wall ? gd[d] - 2 : gd[d];
+    if (k1 - k0 + 1 >= nk || (wall && (k0 < 0 || k1 >= nk))) {
+      for (int k = 0; k < gd[d]; ++k)
+        ks[d].push_back(k);
+      continue;
+    }
+    for (int k = k0; k <= k1; ++k)
+      ks[d].push_back(wall ? k + 1 : ((k % nk) + nk) % nk);
+  }
+  for (int kx : ks[0])
+    for (int ky : ks[1])
+      for (int kz : ks[2]) {
+        int const g = (kx * gd[1] + ky) * gd[2] + kz;
+        for (int i = m_count[g]; i < m_count[g + 1]; ++i)
+          out.push_back(i);
+      }
+}
+
 int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
   m_ia = &s.interactions();
   auto const cols = colloids_of(s, *this);
@@ -122,7 +152,24 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
   auto const &L = box.length();
   int moved = 0;
   std::string err;
-  for (int i = 0; i < size() && err.empty(); ++i) {
+  // the particles to check: all, or with the cell index of the last
+  // collision those near a colloid and those bounced since
+  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == size();
+  std::vector<int> cand;
+  if (indexed) {
+    for (auto const &c : cols) {
+      double r = 0.;
+      for (int t = 0; t < max_type; ++t)
+        r = std::max(r, boundary(c.type, t).radius);
+      near(c.R, r, L, cand);
+    }
+    cand.insert(cand.end(), m_loose.begin(), m_loose.end());
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  }
+  int const n_check = indexed ? static_cast<int>(cand.size()) : size();
+  for (int k = 0; k < n_check && err.empty(); ++k) {
+    int const i = indexed ? cand[k] : k;
     for (int attempt = 0;; ++attempt) {
       bool inside = false;
       for (auto const &c : cols) {
@@ -336,37 +383,16 @@ void Fluid::stream(System &s, double dt) {
       pos[i] += dt_free * v[i];
       fold(pos[i], L);
     }
-    double const rr = r_search + m_disp + 1e-9 * L[0];
-    double const inv_a0 = 1. / m_p.cell_size;
-    auto const &gd = m_index_dim;
     std::vector<int> hits;
+    std::vector<int> cand;
     for (std::size_t j = 0; j < cols.size(); ++j) {
-      Vector3d R = cols[j].R;
-      fold(R, L);
-      std::array<std::vector<int>, 3> ks;
-      for (int d = 0; d < 3; ++d) {
-        int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
-        int const k1 = static_cast<int>(std::floor((R[d] + rr - m_index_shift[d]) * inv_a0));
-        bool const wall = d == m_p.wall_axis;
-        int const nk = wall ? gd[d] - 2 : gd[d];
-        if (k1 - k0 + 1 >= nk || (wall && (k0 < 0 || k1 >= nk))) {
-          for (int k = 0; k < gd[d]; ++k)
-            ks[d].push_back(k);
-          continue;
+      cand.clear();
+      near(cols[j].R, r_search, L, cand);
+      for (int i : cand)
+        if (m_hit[i] != stamp && bounce(i, j)) {
+          m_hit[i] = stamp;
+          hits.push_back(i);
         }
-        for (int k = k0; k <= k1; ++k)
-          ks[d].push_back(wall ? k + 1 : ((k % nk) + nk) % nk);
-      }
-      for (int kx : ks[0])
-        for (int ky : ks[1])
-          for (int kz : ks[2]) {
-            int const g = (kx * gd[1] + ky) * gd[2] + kz;
-            for (int i = m_count[g]; i < m_count[g + 1]; ++i)
-              if (m_hit[i] != stamp && bounce(i, j)) {
-                m_hit[i] = stamp;
-                hits.push_back(i);
-              }
-          }
     }
     for (std::size_t k = 0; k < m_loose.size(); ++k) {
       int const i = m_loose[k];

@@ -138,6 +138,9 @@ private:
   void stream(System &s, double dt);
   void walls(std::uint64_t step, double dt, Utils::Vector3d const &L);
   int relocate_overlapping(System &s, std::uint64_t key);
+  /** Append the indices of the particles that may lie within @p r of @p R
+   * (needs the cell index of the last collision). */
+  void near(Utils::Vector3d R, double r, Utils::Vector3d const &L, std::vector<int> &out) const;
   Params m_p;
   int m_n_tau = 0;
   Utils::Vector3i m_grid{};
