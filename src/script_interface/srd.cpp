@@ -105,7 +105,7 @@ void bind_srd(py::class_<System> &cls) {
   cls.def("srd_create", [](System &s, py::dict kw) {
     check_keys("SRDFluid", kw, {"types", "cell_size", "tau", "angle", "kT", "mass", "seed", "shift",
                                 "rule", "thermostat", "conserve_angular", "wall_axis", "wall_rule",
-                                "wall_velocity_lo", "wall_velocity_hi"});
+                                "wall_velocity_lo", "wall_velocity_hi", "wall_positions"});
     for (auto key : {"tau", "seed"})
       if (!kw.contains(key))
         value_error(std::string("parameter '") + key + "' is required for SRDFluid");
@@ -179,8 +179,22 @@ void bind_srd(py::class_<System> &cls) {
                       std::to_string(p.wall_axis) + " = 0)");
         (std::string(key) == "wall_velocity_lo" ? p.wall_v_lo : p.wall_v_hi) = u;
       }
-    } else if (kw.contains("wall_rule") || kw.contains("wall_velocity_lo") || kw.contains("wall_velocity_hi")) {
-      value_error("parameters 'wall_rule', 'wall_velocity_lo/hi' need 'wall_axis'");
+      if (kw.contains("wall_positions") && !kw["wall_positions"].is_none()) {
+        double const La = s.box().length()[p.wall_axis];
+        std::vector<double> z;
+        try {
+          z = kw["wall_positions"].cast<std::vector<double>>();
+        } catch (py::cast_error const &) {
+        }
+        if (z.size() != 2 || !std::isfinite(z[0]) || !std::isfinite(z[1]) || !(z[0] >= 0.) ||
+            !(z[1] <= La) || !(z[1] - z[0] >= p.cell_size))
+          value_error("parameter 'wall_positions' must be two numbers lo, hi with 0 <= lo, hi <= " +
+                      Utils::to_str(La) + " (the box length along wall_axis) and hi - lo >= cell_size");
+        p.wall_lo = z[0], p.wall_hi = z[1];
+      }
+    } else if (kw.contains("wall_rule") || kw.contains("wall_velocity_lo") || kw.contains("wall_velocity_hi") ||
+               kw.contains("wall_positions")) {
+      value_error("parameters 'wall_rule', 'wall_velocity_lo/hi', 'wall_positions' need 'wall_axis'");
     }
     auto f = std::make_shared<Fluid>(p);
     f->check_geometry(s.box(), s.time_step()); // ValueError: cell/box, tau/dt
@@ -211,6 +225,7 @@ void bind_srd(py::class_<System> &cls) {
       static char const *names[] = {"stochastic", "bounce_back", "slip", "rough"};
       d["wall_axis"] = p.wall_axis, d["wall_rule"] = names[p.wall_rule];
       d["wall_velocity_lo"] = vec_to_array(p.wall_v_lo), d["wall_velocity_hi"] = vec_to_array(p.wall_v_hi);
+      d["wall_positions"] = py::make_tuple(p.wall_lo, fluid(s).wall_hi(s.box().length()[p.wall_axis]));
     }
     return d;
   });

@@ -275,14 +275,15 @@ def scene_srd_thermo():
 
 
 def scene_srd_walls(collisions=100):
-    """SRD channel: stochastic walls at z = 0, L moving at +-0.2 (Couette), split in z on 2 ranks."""
+    """SRD channel: stochastic walls at z = 1.25 and 7 (inside the box) moving at
+    +-0.2 (Couette), split in z on 2 ranks."""
     import marble.srd as srd
     L = 8.0
     s = marble.System(box_l=[4.0, 4.0, L], time_step=0.05)
     s.cell_system.skin = 0.4
     s.srd = srd.SRDFluid(types=[0], tau=0.1, kT=1.0, seed=21, angle=130.0, wall_axis=2,
                          wall_rule="stochastic", wall_velocity_lo=[-0.2, 0, 0],
-                         wall_velocity_hi=[0.2, 0, 0])
+                         wall_velocity_hi=[0.2, 0, 0], wall_positions=(1.25, 7.0))
     srd.add_fluid(s, density=5, type=0, kT=1.0, seed=22)
     s.integrator.run(2 * collisions)
     out = _srd_state(s)

@@ -56,6 +56,10 @@ void Fluid::check_geometry(BoxGeometry const &box, double dt) {
                                   " along axis " + std::to_string(d));
     m_grid[d] = static_cast<int>(std::round(n));
   }
+  if (m_p.wall_axis >= 0 && !(wall_hi(L[m_p.wall_axis]) <= L[m_p.wall_axis]))
+    throw std::invalid_argument("parameter 'wall_positions': the upper wall (" + Utils::to_str(m_p.wall_hi) +
+                                ") must lie inside the box (length " + Utils::to_str(L[m_p.wall_axis]) +
+                                " along axis " + std::to_string(m_p.wall_axis) + ")");
   if (dt > 0.) {
     double const k = m_p.tau / dt;
     if (std::abs(k - std::round(k)) > 1e-9 * k || std::round(k) < 1.)
@@ -191,7 +195,8 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
                                           static_cast<std::uint64_t>(id[i]),
                                           1000 + static_cast<std::uint64_t>(attempt));
       for (int d = 0; d < 3; ++d)
-        pos[i][d] = (u[d] + 0.5) * L[d];
+        pos[i][d] = d == m_p.wall_axis ? wall_lo() + (u[d] + 0.5) * (wall_hi(L[d]) - wall_lo())
+                                       : (u[d] + 0.5) * L[d];
       fold(pos[i], L);
     }
   }
@@ -218,7 +223,7 @@ void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_
     auto const u = Utils::noise_uniform(seed, Utils::RNGSalt::srd_init, 0, static_cast<std::uint64_t>(pid), 0);
     Vector3d x;
     for (int d = 0; d < 3; ++d)
-      x[d] = (u[d] + 0.5) * L[d];
+      x[d] = d == m_p.wall_axis ? wall_lo() + (u[d] + 0.5) * (wall_hi(L[d]) - wall_lo()) : (u[d] + 0.5) * L[d];
     fold(x, L);
     auto const g = gauss4(seed, Utils::RNGSalt::srd_init, 1, static_cast<std::uint64_t>(pid), 0);
     Vector3d const vel = sig * Vector3d{g[0], g[1], g[2]};
@@ -459,19 +464,19 @@ void Fluid::stream(System &s, double dt) {
 // the boundary rule in the frame of the wall, the rest of the step streamed.
 void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
   int const a = m_p.wall_axis;
-  double const La = L[a];
+  double const z0 = wall_lo(), z1 = wall_hi(L[a]);
   double const sig = std::sqrt(m_p.kT / m_p.mass);
   auto const rule = static_cast<BoundaryRule>(m_p.wall_rule);
   for (int i = 0; i < size(); ++i) {
     double t_left = dt;
     for (int bounce = 0; bounce < 4; ++bounce) {
       double const z = pos[i][a] + t_left * v[i][a];
-      if (z >= 0. && z < La)
+      if (z >= z0 && z < z1)
         break;
-      bool const lo = z < 0.;
-      double const tc = std::clamp(((lo ? 0. : La) - pos[i][a]) / v[i][a], 0., t_left);
+      bool const lo = z < z0;
+      double const tc = std::clamp(((lo ? z0 : z1) - pos[i][a]) / v[i][a], 0., t_left);
       pos[i] += tc * v[i];
-      pos[i][a] = lo ? 0. : std::nextafter(La, 0.);
+      pos[i][a] = lo ? z0 : std::nextafter(z1, z0);
       t_left -= tc;
       Vector3d nrm{};
       nrm[a] = lo ? 1. : -1.; // into the fluid
@@ -497,8 +502,8 @@ void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
       m_vmax = std::max(m_vmax, vn.norm()); // the colloid search's displacement bound
     }
     pos[i] += t_left * v[i];
-    if (pos[i][a] < 0. || pos[i][a] >= La) // pathological: still outside
-      pos[i][a] = std::clamp(pos[i][a], 0., std::nextafter(La, 0.));
+    if (pos[i][a] < z0 || pos[i][a] >= z1) // pathological: still outside
+      pos[i][a] = std::clamp(pos[i][a], z0, std::nextafter(z1, z0));
   }
 }
 

@@ -50,6 +50,9 @@ struct Params {
   int wall_axis = -1;
   int wall_rule = 0; // a BoundaryRule value
   Utils::Vector3d wall_v_lo{}, wall_v_hi{};
+  // positions of the two planes along wall_axis (wall_hi < 0: the box
+  // length); the SRD particles live in [wall_lo, wall_hi)
+  double wall_lo = 0., wall_hi = -1.;
 };
 
 /** Boundary of colloid type c for SRD type s: a hard sphere of radius
@@ -88,6 +91,9 @@ public:
   /** Throws std::invalid_argument unless tau is a multiple of @p dt and
    * cell_size divides the box; stores the number of steps per collision. */
   void check_geometry(BoxGeometry const &box, double dt);
+  /** The planes of the channel walls along wall_axis for box length @p La. */
+  double wall_lo() const { return m_p.wall_lo; }
+  double wall_hi(double La) const { return m_p.wall_hi < 0. ? La : m_p.wall_hi; }
   /** Number of collision cells per axis. */
   Utils::Vector3i grid() const { return m_grid; }
   /** Ids of the SRD types. */
