@@ -93,11 +93,14 @@ std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
     return out;
   auto const &ps = s.particles();
   int const me = s.comm().rank();
+  // the types with a boundary for some SRD type
+  int const nt = std::min(Fluid::max_type, s.interactions().n_types());
+  std::vector<char> is_colloid(static_cast<std::size_t>(nt), 0);
+  for (int c = 0; c < nt; ++c)
+    for (int t = 0; t < nt && !is_colloid[c]; ++t)
+      is_colloid[c] = f.boundary(c, t).active;
   for (int i = 0; i < ps.n_local(); ++i) {
-    bool any = false;
-    for (int t = 0; t < Fluid::max_type && !any; ++t)
-      any = f.boundary(ps.type[i], t).active;
-    if (!any)
+    if (ps.type[i] < 0 || ps.type[i] >= nt || !is_colloid[ps.type[i]])
       continue;
     ColloidRef c{i, me, ps.id[i], ps.type[i], ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
 #ifdef ROTATION
