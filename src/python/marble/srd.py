@@ -93,6 +93,7 @@ class SRDFluid:
 
     @property
     def n(self):
+        """Number of SRD particles (on all MPI ranks)."""
         return self._system._core.srd_n() if self._system is not None else 0
 
     def __len__(self):
@@ -100,6 +101,9 @@ class SRDFluid:
 
     @property
     def pos(self):
+        """Folded positions (N, 3) of the SRD particles, in their stored order
+        (the order of ``ids``; on several MPI ranks every rank's particles in
+        rank order: match by ``ids``). Setting takes the same order. Collective."""
         return self._system._core.srd_pos()
 
     @pos.setter
@@ -108,6 +112,7 @@ class SRDFluid:
 
     @property
     def v(self):
+        """Velocities (N, 3), in the order of ``pos`` and ``ids``. Collective."""
         return self._system._core.srd_v()
 
     @v.setter
@@ -116,10 +121,12 @@ class SRDFluid:
 
     @property
     def ids(self):
+        """Ids of the SRD particles, in the order of ``pos``. Collective."""
         return np.asarray(self._system._core.srd_ids())
 
     @property
     def type(self):
+        """Types of the SRD particles, in the order of ``pos``. Collective."""
         return np.asarray(self._system._core.srd_types())
 
     @property
