@@ -2,7 +2,8 @@
 (density 5, a0 = 1, tau = dt = 0.1, alpha = 90 deg, grid shift on, kT = 1, no
 thermostat), Marble side by side with LAMMPS `fix srd` (Debian package
 `lammps`, installed with apt-get if `lmp` is missing), interleaved rounds,
-medians; plus the cost of one stick colloid (a = 2) per MD step in Marble.
+medians; plus the cost of one stick colloid (a = 2) per MD step in Marble
+(the extra time of a run with --colloids of them, default 8, per colloid).
 Writes bench/results/srd_throughput.json (doc/srd.md quotes it).
 
     build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
@@ -27,6 +28,8 @@ p.add_argument("--sizes", type=float, nargs="+", default=[4e4, 3.2e5])
 p.add_argument("--rounds", type=int, default=3)
 p.add_argument("--work", type=float, default=1.5e7, help="particle-steps per timed run")
 p.add_argument("--no-lammps", action="store_true")
+p.add_argument("--colloids", type=int, default=8,
+               help="stick colloids (a = 2) of the colloid run; the cost of one is the extra time / this")
 args = p.parse_args()
 
 
@@ -48,14 +51,18 @@ def ensure_lammps():
     return shutil.which("lmp") is not None
 
 
-def marble_rate(N, steps, colloid=False):
+def marble_rate(N, steps, colloids=0):
     L = round((N / 5) ** (1 / 3))
     s = marble.System(box_l=[L] * 3, time_step=0.1)
     s.cell_system.skin = 0.5
     s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=1)
     srd.add_fluid(s, density=5, type=0, kT=1.0, seed=2)
-    if colloid:
-        srd.add_colloid(s, pos=[L / 2] * 3, radius=2.0, mass=125.0, type=1)
+    if colloids:
+        # on a simple cubic lattice (spacing >= 2a + 2 needs L >= 6 k for k^3 colloids)
+        k = int(np.ceil(colloids ** (1 / 3) - 1e-9))
+        sites = [(i, j, m) for i in range(k) for j in range(k) for m in range(k)][:colloids]
+        for site in sites:
+            srd.add_colloid(s, pos=[(x + 0.5) * L / k for x in site], radius=2.0, mass=125.0, type=1)
     s.integrator.run(5)
     t0 = time.process_time()
     s.integrator.run(steps)
@@ -113,11 +120,13 @@ for N in args.sizes:
         m.append(rate)
         if have_lmp:
             lm.append(lammps_rate(N, steps)[0])
-        # one colloid: extra cost per MD step (pure run of this round as reference)
-        mc.append(marble_rate(N, steps, colloid=True)[1] - t_pure)
+        # one colloid: extra cost per MD step of args.colloids of them / their number
+        # (pure run of this round as reference)
+        mc.append((marble_rate(N, steps, colloids=args.colloids)[1] - t_pure) / args.colloids)
     row = dict(N=int(5 * round((N / 5) ** (1 / 3)) ** 3), steps=steps, marble=float(np.median(m)), marble_all=m,
                lammps=float(np.median(lm)) if lm else None, lammps_all=lm,
-               colloid_extra_s_per_step=float(np.median(mc)))
+               colloid_extra_s_per_step=float(np.median(mc)), colloid_extra_all=mc,
+               n_colloids=args.colloids)
     res["sizes"].append(row)
     print(f"N = {N}: Marble {row['marble']:.3g} / CPU-s"
           + (f", LAMMPS {row['lammps']:.3g} / CPU-s, ratio {row['marble'] / row['lammps']:.2f}"

@@ -35,7 +35,8 @@ py::bytes to_bytes(std::vector<char> const &v) { return py::bytes(v.data(), v.si
 #ifdef MARBLE_HAVE_HDF5
 Marble::IO::H5mdFields parse_fields(py::handle h) {
   static std::vector<std::string> const names{"position", "image", "velocity", "force", "species",
-                                              "mass",     "id",    "box",      "time",  "step"};
+                                              "mass",     "id",    "box",      "time",  "step",
+                                              "srd"};
   std::string allowed = "all";
   for (auto const &n : names)
     allowed += ", " + n;
@@ -57,7 +58,7 @@ Marble::IO::H5mdFields parse_fields(py::handle h) {
   if (list.empty())
     value_error("parameter 'fields' must name at least one field (" + allowed + ")");
   Marble::IO::H5mdFields f;
-  f.position = f.image = f.velocity = f.force = f.species = f.mass = f.id = f.box = f.time = false;
+  f.position = f.image = f.velocity = f.force = f.species = f.mass = f.id = f.box = f.time = f.srd = false;
   f.step = true; // H5MD requires step in every time series
   for (auto const &s : list) {
     if (s == "all")
@@ -72,6 +73,7 @@ Marble::IO::H5mdFields parse_fields(py::handle h) {
                  : s == "box"    ? &f.box
                  : s == "time"   ? &f.time
                  : s == "step"   ? &f.step
+                 : s == "srd"    ? &f.srd
                                  : nullptr;
     if (!flag)
       value_error("parameter 'fields': unknown field '" + s + "' (allowed: " + allowed + ")");

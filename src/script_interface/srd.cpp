@@ -53,10 +53,21 @@ void check_no_md_particles(System &s, int t) {
     value_error("type " + std::to_string(t) + " is used by MD particles; an SRD type must not be");
 }
 
-void refuse_mpi(System &s) {
-  if (s.comm().parallel())
-    throw Utils::RuntimeError("SRD is not supported on more than one MPI rank yet (running on " +
-                              std::to_string(s.comm().size()) + ")");
+// On several ranks the reads gather every rank's SRD particles in rank order
+// (the order is arbitrary: use srd_ids), the writes take this rank's slice
+// of the same order. Collective.
+template <typename T> std::vector<T> gather(System &s, std::vector<T> const &x) {
+  return s.comm().parallel() ? s.comm().allgatherv(x) : x;
+}
+std::pair<std::size_t, std::size_t> my_slice(System &s, std::size_t n_local) {
+  auto const counts = s.comm().allgather(static_cast<int>(n_local));
+  std::size_t off = 0, total = 0;
+  for (int r = 0; r < static_cast<int>(counts.size()); ++r) {
+    if (r < s.comm().rank())
+      off += counts[r];
+    total += counts[r];
+  }
+  return {off, total};
 }
 
 py::array_t<double> to_array(std::vector<Utils::Vector3d> const &x) {
@@ -92,10 +103,9 @@ bool to_bool(std::string const &name, py::handle h) {
 void bind_srd(py::class_<System> &cls) {
 #ifdef SRD
   cls.def("srd_create", [](System &s, py::dict kw) {
-    refuse_mpi(s);
     check_keys("SRDFluid", kw, {"types", "cell_size", "tau", "angle", "kT", "mass", "seed", "shift",
                                 "rule", "thermostat", "conserve_angular", "wall_axis", "wall_rule",
-                                "wall_velocity_lo", "wall_velocity_hi"});
+                                "wall_velocity_lo", "wall_velocity_hi", "wall_positions"});
     for (auto key : {"tau", "seed"})
       if (!kw.contains(key))
         value_error(std::string("parameter '") + key + "' is required for SRDFluid");
@@ -169,8 +179,22 @@ void bind_srd(py::class_<System> &cls) {
                       std::to_string(p.wall_axis) + " = 0)");
         (std::string(key) == "wall_velocity_lo" ? p.wall_v_lo : p.wall_v_hi) = u;
       }
-    } else if (kw.contains("wall_rule") || kw.contains("wall_velocity_lo") || kw.contains("wall_velocity_hi")) {
-      value_error("parameters 'wall_rule', 'wall_velocity_lo/hi' need 'wall_axis'");
+      if (kw.contains("wall_positions") && !kw["wall_positions"].is_none()) {
+        double const La = s.box().length()[p.wall_axis];
+        std::vector<double> z;
+        try {
+          z = kw["wall_positions"].cast<std::vector<double>>();
+        } catch (py::cast_error const &) {
+        }
+        if (z.size() != 2 || !std::isfinite(z[0]) || !std::isfinite(z[1]) || !(z[0] >= 0.) ||
+            !(z[1] <= La) || !(z[1] - z[0] >= p.cell_size))
+          value_error("parameter 'wall_positions' must be two numbers lo, hi with 0 <= lo, hi <= " +
+                      Utils::to_str(La) + " (the box length along wall_axis) and hi - lo >= cell_size");
+        p.wall_lo = z[0], p.wall_hi = z[1];
+      }
+    } else if (kw.contains("wall_rule") || kw.contains("wall_velocity_lo") || kw.contains("wall_velocity_hi") ||
+               kw.contains("wall_positions")) {
+      value_error("parameters 'wall_rule', 'wall_velocity_lo/hi', 'wall_positions' need 'wall_axis'");
     }
     auto f = std::make_shared<Fluid>(p);
     f->check_geometry(s.box(), s.time_step()); // ValueError: cell/box, tau/dt
@@ -201,6 +225,7 @@ void bind_srd(py::class_<System> &cls) {
       static char const *names[] = {"stochastic", "bounce_back", "slip", "rough"};
       d["wall_axis"] = p.wall_axis, d["wall_rule"] = names[p.wall_rule];
       d["wall_velocity_lo"] = vec_to_array(p.wall_v_lo), d["wall_velocity_hi"] = vec_to_array(p.wall_v_hi);
+      d["wall_positions"] = py::make_tuple(p.wall_lo, fluid(s).wall_hi(s.box().length()[p.wall_axis]));
     }
     return d;
   });
@@ -219,38 +244,55 @@ void bind_srd(py::class_<System> &cls) {
       value_error("parameter 'seed' must be an integer >= 0, got " + std::to_string(seed));
     f.add_particles(s, static_cast<int>(n), static_cast<int>(t), kT, static_cast<std::uint64_t>(seed));
   });
-  cls.def("srd_n", [](System &s) { return s.srd ? s.srd->size() : 0; });
-  cls.def("srd_pos", [](System &s) { return to_array(fluid(s).pos); });
-  cls.def("srd_v", [](System &s) { return to_array(fluid(s).v); });
-  cls.def("srd_ids", [](System &s) { return fluid(s).id; });
-  cls.def("srd_types", [](System &s) { return fluid(s).type; });
-  cls.def("srd_set_v", [](System &s, py::array_t<double> a) { from_array("v", a, fluid(s).v); });
+  cls.def("srd_n", [](System &s) { return s.srd ? s.srd->global_size(s) : 0LL; });
+  cls.def("srd_pos", [](System &s) { return to_array(gather(s, fluid(s).pos)); });
+  cls.def("srd_v", [](System &s) { return to_array(gather(s, fluid(s).v)); });
+  cls.def("srd_ids", [](System &s) { return gather(s, fluid(s).id); });
+  cls.def("srd_types", [](System &s) { return gather(s, fluid(s).type); });
+  cls.def("srd_set_v", [](System &s, py::array_t<double> a) {
+    auto &f = fluid(s);
+    auto const [off, total] = my_slice(s, f.v.size());
+    std::vector<Utils::Vector3d> x(total);
+    from_array("v", a, x);
+    std::copy(x.begin() + static_cast<long>(off), x.begin() + static_cast<long>(off + f.v.size()), f.v.begin());
+    f.invalidate_index();
+  });
   cls.def("srd_set_pos", [](System &s, py::array_t<double> a) {
     auto &f = fluid(s);
-    auto x = f.pos;
+    auto const [off, total] = my_slice(s, f.pos.size());
+    std::vector<Utils::Vector3d> x(total);
     from_array("pos", a, x);
     auto const &L = s.box().length();
     for (auto &p : x)
       for (int d = 0; d < 3; ++d)
         p[d] -= L[d] * std::floor(p[d] / L[d]);
-    f.pos = x;
+    std::copy(x.begin() + static_cast<long>(off), x.begin() + static_cast<long>(off + f.pos.size()), f.pos.begin());
+    f.invalidate_index();
   });
   cls.def("srd_collide", [](System &s) {
     auto &f = fluid(s);
     f.check_geometry(s.box(), -1.);
-    f.collide(s.box());
+    f.collide(s);
   });
   // checkpoint: the whole SRD state, particles in their stored order (the
   // order of the sums in a cell), counters, boundaries and drive
   cls.def("srd_get_state", [](System &s) {
     auto &f = fluid(s);
     py::dict d;
-    d["pos"] = to_array(f.pos), d["v"] = to_array(f.v), d["id"] = f.id, d["type"] = f.type;
+    d["pos"] = to_array(gather(s, f.pos)), d["v"] = to_array(gather(s, f.v));
+    d["id"] = gather(s, f.id), d["type"] = gather(s, f.type);
+    // the rank holding each particle: on the same number of ranks a restore
+    // puts every particle back where it was (bit-exact continuation)
+    d["rank"] = gather(s, std::vector<int>(f.id.size(), s.comm().rank()));
+    d["n_ranks"] = s.comm().size();
+    Utils::Vector3d mlo = f.momentum_to_wall_lo, mhi = f.momentum_to_wall_hi;
+    s.comm().sum_inplace(&mlo[0], 3);
+    s.comm().sum_inplace(&mhi[0], 3);
     d["n_collisions"] = f.n_collisions(), d["n_streams"] = f.n_streams();
     d["drive"] = py::make_tuple(f.drive.on, f.drive.flow_dir, f.drive.grad_dir, f.drive.g,
                                 vec_to_array(f.drive.accel));
     d["momentum_to_colloids"] = vec_to_array(f.momentum_to_colloids);
-    d["momentum_to_walls"] = py::make_tuple(vec_to_array(f.momentum_to_wall_lo), vec_to_array(f.momentum_to_wall_hi));
+    d["momentum_to_walls"] = py::make_tuple(vec_to_array(mlo), vec_to_array(mhi));
     return d;
   });
   cls.def("srd_set_state", [](System &s, py::dict d) {
@@ -262,8 +304,22 @@ void bind_srd(py::class_<System> &cls) {
     from_array("v", d["v"].cast<py::array_t<double>>(), u);
     if (types.size() != ids.size())
       throw Utils::RuntimeError("SRD checkpoint state is inconsistent");
-    f.pos = x, f.v = u, f.id = ids, f.type = types;
+    // keep this rank's particles: those it held at the save on the same
+    // number of ranks, else those in its domain (in the stored order)
+    std::vector<int> where;
+    if (d.contains("rank") && d["n_ranks"].cast<int>() == s.comm().size())
+      where = d["rank"].cast<std::vector<int>>();
+    if (where.size() != ids.size()) {
+      where.resize(ids.size());
+      for (std::size_t i = 0; i < ids.size(); ++i)
+        where[i] = s.cells().owner_rank(x[i], s.box());
+    }
+    f.pos.clear(), f.v.clear(), f.id.clear(), f.type.clear();
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (where[i] == s.comm().rank())
+        f.pos.push_back(x[i]), f.v.push_back(u[i]), f.id.push_back(ids[i]), f.type.push_back(types[i]);
     f.set_counters(d["n_collisions"].cast<std::uint64_t>(), d["n_streams"].cast<std::uint64_t>());
+    f.invalidate_index();
     auto dr = d["drive"].cast<py::tuple>();
     f.drive.on = dr[0].cast<bool>(), f.drive.flow_dir = dr[1].cast<int>();
     f.drive.grad_dir = dr[2].cast<int>(), f.drive.g = dr[3].cast<double>();
@@ -272,6 +328,8 @@ void bind_srd(py::class_<System> &cls) {
     auto mw = d["momentum_to_walls"].cast<py::tuple>();
     f.momentum_to_wall_lo = to_vec3("momentum_to_walls", mw[0]);
     f.momentum_to_wall_hi = to_vec3("momentum_to_walls", mw[1]);
+    if (!s.comm().is_root()) // the totals are kept by rank 0
+      f.momentum_to_wall_lo = f.momentum_to_wall_hi = Utils::Vector3d{};
   });
   cls.def("srd_move_out", [](System &s) { return fluid(s).move_out(s); });
   cls.def("srd_n_collisions", [](System &s) { return fluid(s).n_collisions(); });
@@ -285,7 +343,10 @@ void bind_srd(py::class_<System> &cls) {
   });
   cls.def("srd_wall_momentum", [](System &s) {
     auto &f = fluid(s);
-    return py::make_tuple(vec_to_array(f.momentum_to_wall_lo), vec_to_array(f.momentum_to_wall_hi));
+    Utils::Vector3d lo = f.momentum_to_wall_lo, hi = f.momentum_to_wall_hi;
+    s.comm().sum_inplace(&lo[0], 3);
+    s.comm().sum_inplace(&hi[0], 3);
+    return py::make_tuple(vec_to_array(lo), vec_to_array(hi));
   });
   cls.def("srd_set_acceleration", [](System &s, py::handle a) {
     auto &f = fluid(s);
@@ -306,6 +367,8 @@ void bind_srd(py::class_<System> &cls) {
       vs[b] += f.v[i][flow];
       cnt[b] += 1.;
     }
+    s.comm().sum_inplace(vs.data(), n_bins);
+    s.comm().sum_inplace(cnt.data(), n_bins);
     return py::make_tuple(vs, cnt);
   });
 #else

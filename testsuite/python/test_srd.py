@@ -247,3 +247,69 @@ def test_walls_confine_and_conserve_momentum(rule):
         make(L=6.0, wall_axis=1, wall_velocity_lo=[0, 1, 0])
     with pytest.raises(ValueError, match="wall_axis"):
         make(L=6.0, wall_rule="slip")
+
+
+@pytest.mark.skipif(not marble.has_features("ROTATION", "MASS"), reason="needs ROTATION, MASS")
+@pytest.mark.parametrize("walls", [False, True])
+def test_colloid_search_by_cells_equals_full_search(walls):
+    """The colloids find their SRD particles through the collision cells of
+    the last collision (doc/srd.md); forgetting that index before every step
+    (a full search of all particles) must give the same trajectory, bit for
+    bit: two colloids (stick and slip), a drive, optionally stochastic walls."""
+    kw = dict(wall_axis=2, wall_rule="stochastic", wall_velocity_lo=[0.3, 0, 0]) if walls else {}
+    runs = []
+    for full in (False, True):
+        s = make(L=8.0, dt=0.025, **kw)
+        s.cell_system.skin = 0.5
+        a = srd.add_colloid(s, pos=[2.0, 4.0, 4.0], radius=1.5, mass=40.0, type=1, v=(0.4, 0.1, 0))
+        b = srd.add_colloid(s, pos=[6.0, 4.0, 4.0], radius=1.2, mass=30.0, type=2, rule="slip",
+                            v=(-0.2, 0, 0.3))
+        s.srd.acceleration = [0.05, 0.0, 0.0]
+        for _ in range(60):
+            if full:
+                s.srd.v = s.srd.v  # invalidates the cell index: full search this step
+            s.integrator.run(1)
+        runs.append((s.srd.pos, s.srd.v, np.array(a.v), np.array(a.omega_lab), np.array(b.v),
+                     np.array(s.srd.momentum_to_colloids())))
+    assert np.abs(runs[0][5]).max() > 0.5  # the colloids were hit
+    for x, y in zip(*runs):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_walls_inside_the_box():
+    """Walls anywhere along the axis (wall_positions): the particles stay in
+    [lo, hi), add_fluid fills the channel at the given density, momentum is
+    conserved with the walls' share, the Couette profile follows the walls;
+    walls at (0, L) given explicitly change nothing (bit for bit)."""
+    lo, hi = 1.5, 6.5
+    s = make(L=8.0, dt=0.05, density=0, wall_axis=2, wall_rule="stochastic", wall_positions=(lo, hi),
+             wall_velocity_lo=[-0.5, 0, 0], wall_velocity_hi=[0.5, 0, 0])
+    assert s.srd.get_params()["wall_positions"] == (lo, hi)
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=7)
+    assert s.srd.n == int(round(5 * 8 * 8 * (hi - lo)))
+    z = s.srd.pos[:, 2]
+    assert z.min() >= lo and z.max() < hi
+    P0 = s.srd.v.sum(axis=0)
+    s.integrator.run(400)
+    z = s.srd.pos[:, 2]
+    assert z.min() >= lo and z.max() < hi
+    wlo, whi = s.srd.momentum_to_walls()
+    assert np.allclose(s.srd.v.sum(axis=0) + wlo + whi, P0, rtol=0, atol=1e-8)
+    # steady Couette flow: vx rises from the lower to the upper wall
+    vx, zs = s.srd.v[:, 0], s.srd.pos[:, 2]
+    third = (hi - lo) / 3
+    v_low = vx[zs < lo + third].mean()
+    v_high = vx[zs >= hi - third].mean()
+    assert v_low < -0.15 and v_high > 0.15, (v_low, v_high)
+    runs = []
+    for extra in ({}, {"wall_positions": (0.0, 6.0)}):
+        r = make(L=6.0, wall_axis=1, wall_rule="stochastic", **extra)
+        r.integrator.run(20)
+        runs.append(by_id(r))
+    for x, y in zip(*runs):
+        np.testing.assert_array_equal(x, y)
+    for bad in ((2.0, 1.0), (-1.0, 4.0), (1.0, 9.0), (1.0, 1.5), (1.0,)):
+        with pytest.raises(ValueError, match="wall_positions"):
+            make(L=8.0, wall_axis=2, wall_positions=bad)
+    with pytest.raises(ValueError, match="wall_positions"):
+        make(L=8.0, wall_positions=(1.0, 2.0))

@@ -3,6 +3,9 @@
 
 #include "config/features.hpp"
 #include "utils/errors.hpp"
+#ifdef SRD
+#include "srd/Fluid.hpp"
+#endif
 
 #include <hdf5.h>
 
@@ -53,7 +56,12 @@ struct H5mdFile::Impl {
   hid_t step = -1, time = -1; // owned by the first series group; hard links elsewhere
   std::vector<Series> series;
   long frames = 0, n = -1;
+  // SRD particles: /particles/srd (n_srd = -1: the file has none)
+  hid_t srd = -1, srd_box = -1;
+  std::vector<Series> srd_series;
+  long n_srd = -1;
   bool mpio = false; // MPI-IO driver (MPI initialised, parallel HDF5)
+  std::array<bool, 3> box_periodic{true, true, true};
 
   // errno is reset at the start of each public call, so a system error seen
   // here (e.g. "File too large", "No space left on device") is this call's.
@@ -206,10 +214,37 @@ struct H5mdFile::Impl {
     check(rc, "writing a dataset");
   }
 
-  void create_datasets(long n_particles) {
+  void create_datasets(long n_particles, long n_srd_particles) {
+    if (n_srd_particles > 0) {
+      n_srd = n_srd_particles;
+      srd = group(particles, "srd");
+      srd_box = group(srd, "box");
+      attr_ints(srd_box, "dimension", {3});
+      std::vector<std::string> boundary;
+      for (int d = 0; d < 3; ++d)
+        boundary.push_back(box_periodic[d] ? "periodic" : "none");
+      attr_strings(srd_box, "boundary", boundary);
+      auto const Ns = static_cast<hsize_t>(n_srd_particles);
+      auto add_srd = [&](bool on, char const *name, int cols, hid_t file_type, hid_t mem_type) {
+        if (!on)
+          return;
+        Series s;
+        s.name = name, s.cols = cols, s.file_type = file_type, s.mem_type = mem_type;
+        s.group = group(srd, name);
+        std::vector<hsize_t> inner{Ns};
+        if (cols)
+          inner.push_back(static_cast<hsize_t>(cols));
+        s.value = dataset(s.group, "value", file_type, inner, 1);
+        srd_series.push_back(s);
+      };
+      add_srd(fields.position, "position", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+      add_srd(fields.velocity, "velocity", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+      add_srd(fields.species, "species", 0, H5T_STD_I32LE, H5T_NATIVE_INT);
+      add_srd(fields.id, "id", 0, H5T_STD_I32LE, H5T_NATIVE_INT);
+    }
     auto const N = static_cast<hsize_t>(n_particles);
     auto add = [&](bool on, char const *name, int cols, hid_t file_type, hid_t mem_type) {
-      if (!on)
+      if (!on || N == 0)
         return;
       Series s;
       s.name = name;
@@ -234,8 +269,13 @@ struct H5mdFile::Impl {
       edges_group = group(box, "edges");
       edges = dataset(edges_group, "value", H5T_IEEE_F64LE, {3, 3}, chunk_frames);
     }
+    if (srd_box >= 0 && edges_group >= 0) // the same box for the SRD group
+      check(H5Lcreate_hard(box, "edges", srd_box, "edges", H5P_DEFAULT, H5P_DEFAULT), "linking the box");
     // step (always: H5MD requires it) and time, shared by every time series
-    hid_t owner = !series.empty() ? series.front().group : edges_group;
+    hid_t owner = !series.empty()       ? series.front().group
+                  : edges_group >= 0    ? edges_group
+                  : !srd_series.empty() ? srd_series.front().group
+                                        : -1;
     if (owner < 0)
       return;
     step = dataset(owner, "step", H5T_STD_I64LE, {}, chunk_frames);
@@ -247,6 +287,9 @@ struct H5mdFile::Impl {
         others.push_back(s.group);
     if (edges_group >= 0 && edges_group != owner)
       others.push_back(edges_group);
+    for (auto const &s : srd_series)
+      if (s.group != owner)
+        others.push_back(s.group);
     for (hid_t g : others) {
       check(H5Lcreate_hard(owner, "step", g, "step", H5P_DEFAULT, H5P_DEFAULT), "linking step");
       if (fields.time)
@@ -336,6 +379,28 @@ struct H5mdFile::Impl {
                                   "': its time series have different numbers of frames "
                                   "(an interrupted write?)");
     }
+    if (fields.srd && exists(particles, "srd")) { // SRD particles of a Marble file
+      srd = check_id(H5Gopen2(particles, "srd", H5P_DEFAULT), "opening /particles/srd");
+      static std::array<std::pair<char const *, int>, 4> const srd_names{
+          {{"position", 3}, {"velocity", 3}, {"species", 0}, {"id", 0}}};
+      for (auto const &[name, cols] : srd_names) {
+        if (!exists(srd, name))
+          continue;
+        Series s;
+        s.name = name, s.cols = cols;
+        bool const is_int = s.name == "species" || s.name == "id";
+        s.file_type = is_int ? H5T_STD_I32LE : H5T_IEEE_F64LE;
+        s.mem_type = is_int ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE;
+        s.group = check_id(H5Gopen2(srd, name, H5P_DEFAULT), "opening a group");
+        s.value = check_id(H5Dopen2(s.group, "value", H5P_DEFAULT), "opening a dataset");
+        auto const d = dims_of(s.value);
+        if (d.size() < 2 || static_cast<long>(d[0]) != nf)
+          throw Utils::RuntimeError("H5MD: cannot append to '" + path +
+                                    "': its SRD time series have a different number of frames");
+        n_srd = static_cast<long>(d[1]);
+        srd_series.push_back(s);
+      }
+    }
     frames = nf;
     if (!series.empty()) {
       auto const d = dims_of(series.front().value);
@@ -351,6 +416,14 @@ struct H5mdFile::Impl {
       H5Gclose(s.group);
     }
     series.clear();
+    for (auto &s : srd_series) {
+      H5Dclose(s.value);
+      H5Gclose(s.group);
+    }
+    srd_series.clear();
+    for (hid_t *g : {&srd_box, &srd})
+      if (*g >= 0)
+        H5Gclose(*g), *g = -1;
     for (hid_t *d : {&edges, &step, &time})
       if (*d >= 0)
         H5Dclose(*d), *d = -1;
@@ -368,6 +441,8 @@ H5mdFile::H5mdFile(System const &system, std::string const &path, H5mdFields con
                    std::string const &author, bool append)
     : m(std::make_unique<Impl>()) {
   m->comm = system.comm();
+  for (int d = 0; d < 3; ++d)
+    m->box_periodic[d] = system.box().periodic(d);
   m->path = path;
   m->fields = fields;
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported as exceptions
@@ -482,13 +557,18 @@ void H5mdFile::write_frame(System const &system) {
   std::vector<int> local_ids(ps.id.begin(), ps.id.begin() + n_local);
   auto all_ids = m->comm.allgatherv(local_ids);
   long const N = static_cast<long>(all_ids.size());
+  long n_srd = 0;
+#ifdef SRD
+  if (m->fields.srd && system.srd)
+    n_srd = system.srd->global_size(system);
+#endif
   if (m->n == -2) { // appending to a file with the box only
     if (N == 0)
       throw Utils::RuntimeError("H5MD: the system has no particles: nothing to write");
   } else if (m->n < 0) {
-    if (N == 0)
+    if (N == 0 && n_srd == 0)
       throw Utils::RuntimeError("H5MD: the system has no particles: nothing to write");
-    m->create_datasets(N);
+    m->create_datasets(N, n_srd);
     m->n = N;
   } else if (N != m->n) {
     throw Utils::RuntimeError("H5MD: the number of particles changed from " + std::to_string(m->n) +
@@ -512,8 +592,15 @@ void H5mdFile::write_frame(System const &system) {
     else
       runs.push_back({r, 1});
   }
+  if (m->n_srd >= 0 && n_srd != m->n_srd)
+    throw Utils::RuntimeError("H5MD: the number of SRD particles changed from " + std::to_string(m->n_srd) +
+                              " to " + std::to_string(n_srd) + " since the first frame of '" + m->path +
+                              "'; an H5MD file holds a fixed number of particles: close it and "
+                              "write to a new file");
   hsize_t const frames_new = static_cast<hsize_t>(m->frames + 1);
   for (auto const &s : m->series)
+    m->extend(s.value, frames_new);
+  for (auto const &s : m->srd_series)
     m->extend(s.value, frames_new);
   for (hid_t d : {m->edges, m->step, m->time})
     if (d >= 0)
@@ -556,6 +643,10 @@ void H5mdFile::write_frame(System const &system) {
       buf = &dummy;
     m->write_rows(s, runs, buf, static_cast<hsize_t>(rows.size()));
   }
+#ifdef SRD
+  if (!m->srd_series.empty())
+    write_srd_frame(system);
+#endif
   if (m->edges >= 0) {
     std::array<double, 9> e{};
     for (int d = 0; d < 3; ++d)
@@ -572,6 +663,53 @@ void H5mdFile::write_frame(System const &system) {
   }
   ++m->frames;
 }
+
+#ifdef SRD
+// The SRD particles: rows by increasing SRD id, each rank writes its own.
+void H5mdFile::write_srd_frame(System const &system) {
+  auto const &f = *system.srd;
+  auto all_ids = m->comm.allgatherv(f.id);
+  std::sort(all_ids.begin(), all_ids.end());
+  std::vector<std::pair<hsize_t, int>> rows; // (row, local index)
+  rows.reserve(f.id.size());
+  for (int i = 0; i < f.size(); ++i) {
+    auto const it = std::lower_bound(all_ids.begin(), all_ids.end(), f.id[i]);
+    rows.emplace_back(static_cast<hsize_t>(it - all_ids.begin()), i);
+  }
+  std::sort(rows.begin(), rows.end());
+  std::vector<std::array<hsize_t, 2>> runs;
+  for (auto const &[r, i] : rows) {
+    if (!runs.empty() && runs.back()[0] + runs.back()[1] == r)
+      ++runs.back()[1];
+    else
+      runs.push_back({r, 1});
+  }
+  std::vector<double> dbuf;
+  std::vector<int> ibuf;
+  for (auto const &s : m->srd_series) {
+    dbuf.clear();
+    ibuf.clear();
+    for (auto const &[r, i] : rows) {
+      (void)r;
+      if (s.name == "position" || s.name == "velocity") {
+        auto const &x = s.name == "position" ? f.pos[i] : f.v[i];
+        for (int d = 0; d < 3; ++d)
+          dbuf.push_back(x[d]);
+      } else if (s.name == "species") {
+        ibuf.push_back(f.type[i]);
+      } else if (s.name == "id") {
+        ibuf.push_back(f.id[i]);
+      }
+    }
+    void const *buf = s.mem_type == H5T_NATIVE_DOUBLE ? static_cast<void const *>(dbuf.data())
+                                                      : static_cast<void const *>(ibuf.data());
+    double dummy = 0.;
+    if (rows.empty())
+      buf = &dummy;
+    m->write_rows(s, runs, buf, static_cast<hsize_t>(rows.size()));
+  }
+}
+#endif
 
 void H5mdFile::flush() {
   errno = 0;

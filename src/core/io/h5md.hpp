@@ -9,6 +9,9 @@
 // are folded into the box with their image counts (position + image * box_l is
 // the unfolded position).
 //
+// SRD particles (feature SRD) go to /particles/srd (see H5mdFields::srd),
+// rows by increasing SRD id.
+//
 // With MPI the file is opened with the MPI-IO driver on the System's
 // communicator and written collectively: each rank writes its own local
 // particles into their rows. Every call here is collective.
@@ -22,6 +25,12 @@ namespace Marble::IO {
 struct H5mdFields {
   bool position = true, image = true, velocity = true, force = true, species = true, mass = true,
        id = true, box = true, time = true, step = true;
+  /** SRD solvent (feature SRD): its particles in their own group
+   * /particles/srd/{position, velocity, species, id} (the subset of those
+   * fields that is on; positions folded, no image), with /particles/srd/box
+   * and step/time shared with /particles/atoms. Written if the System has an
+   * SRD fluid with particles when the first frame is written. */
+  bool srd = true;
 };
 
 class H5mdFile {
@@ -52,6 +61,7 @@ public:
 
 private:
   void write_frame(System const &system);
+  void write_srd_frame(System const &system); // feature SRD
   struct Impl;
   std::unique_ptr<Impl> m;
 };

@@ -6,9 +6,11 @@
 #include "utils/errors.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace Marble::Srd {
 
@@ -28,13 +30,17 @@ void fold(Vector3d &x, Vector3d const &L) {
   }
 }
 
-// The colloids an SRD fluid sees: local MD particles of a type with an
-// active boundary for some SRD type.
+// The colloids an SRD fluid sees: MD particles of a type with an active
+// boundary for some SRD type, gathered from every rank (sorted by id): an
+// SRD particle may meet a colloid owned by another rank; the momentum handed
+// to a colloid is summed over the ranks and applied by its owner.
 struct ColloidRef {
-  int index;
+  int index; // local index on the owning rank, -1 on the others
+  int rank, id, type;
   Vector3d R, V, W;
   double M, I;
 };
+static_assert(std::is_trivially_copyable_v<ColloidRef>);
 } // namespace
 
 void Fluid::check_geometry(BoxGeometry const &box, double dt) {
@@ -50,6 +56,10 @@ void Fluid::check_geometry(BoxGeometry const &box, double dt) {
                                   " along axis " + std::to_string(d));
     m_grid[d] = static_cast<int>(std::round(n));
   }
+  if (m_p.wall_axis >= 0 && !(wall_hi(L[m_p.wall_axis]) <= L[m_p.wall_axis]))
+    throw std::invalid_argument("parameter 'wall_positions': the upper wall (" + Utils::to_str(m_p.wall_hi) +
+                                ") must lie inside the box (length " + Utils::to_str(L[m_p.wall_axis]) +
+                                " along axis " + std::to_string(m_p.wall_axis) + ")");
   if (dt > 0.) {
     double const k = m_p.tau / dt;
     if (std::abs(k - std::round(k)) > 1e-9 * k || std::round(k) < 1.)
@@ -76,27 +86,69 @@ BoundaryParams Fluid::boundary(int c, int s) const {
 bool Fluid::any_boundary() const { return m_ia && m_ia->any_active<SRDBoundary>(); }
 
 namespace {
+// Collective (the interaction table, hence any_boundary(), is the same on every rank).
 std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
   std::vector<ColloidRef> out;
   if (!f.any_boundary())
     return out;
   auto const &ps = s.particles();
+  int const me = s.comm().rank();
+  // the types with a boundary for some SRD type
+  int const nt = std::min(Fluid::max_type, s.interactions().n_types());
+  std::vector<char> is_colloid(static_cast<std::size_t>(nt), 0);
+  for (int c = 0; c < nt; ++c)
+    for (int t = 0; t < nt && !is_colloid[c]; ++t)
+      is_colloid[c] = f.boundary(c, t).active;
   for (int i = 0; i < ps.n_local(); ++i) {
-    bool any = false;
-    for (int t = 0; t < Fluid::max_type && !any; ++t)
-      any = f.boundary(ps.type[i], t).active;
-    if (!any)
+    if (ps.type[i] < 0 || ps.type[i] >= nt || !is_colloid[ps.type[i]])
       continue;
-    ColloidRef c{i, ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
+    ColloidRef c{i, me, ps.id[i], ps.type[i], ps.pos[i], ps.v[i], {}, ps.get_mass(i), 0.};
 #ifdef ROTATION
     c.W = ps.omega[i];
     c.I = ps.rotation[i] ? ps.rinertia[i] : 0.;
 #endif
     out.push_back(c);
   }
+  if (s.comm().parallel()) {
+    out = s.comm().allgatherv(out);
+    for (auto &c : out)
+      if (c.rank != me)
+        c.index = -1;
+  }
+  std::sort(out.begin(), out.end(), [](ColloidRef const &a, ColloidRef const &b) { return a.id < b.id; });
   return out;
 }
 } // namespace
+
+void Fluid::near(Vector3d R, double r, Vector3d const &L, std::vector<int> &out) const {
+  // a particle now within r of R sat, at the last collision's sort, in a
+  // cell within r + m_disp of R
+  fold(R, L);
+  double const rr = r + m_disp + 1e-9 * L[0];
+  double const inv_a0 = 1. / m_p.cell_size;
+  auto const &gd = m_index_dim;
+  std::array<std::vector<int>, 3> ks;
+  for (int d = 0; d < 3; ++d) {
+    int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
+    int const k1 = static_cast<int>(std::floor((R[d] + rr - m_index_shift[d]) * inv_a0));
+    bool const wall = d == m_p.wall_axis;
+    int const nk = wall ? gd[d] - 2 : gd[d];
+    if (k1 - k0 + 1 >= nk || (wall && (k0 < 0 || k1 >= nk))) {
+      for (int k = 0; k < gd[d]; ++k)
+        ks[d].push_back(k);
+      continue;
+    }
+    for (int k = k0; k <= k1; ++k)
+      ks[d].push_back(wall ? k + 1 : ((k % nk) + nk) % nk);
+  }
+  for (int kx : ks[0])
+    for (int ky : ks[1])
+      for (int kz : ks[2]) {
+        int const g = (kx * gd[1] + ky) * gd[2] + kz;
+        for (int i = m_count[g]; i < m_count[g + 1]; ++i)
+          out.push_back(i);
+      }
+}
 
 int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
   m_ia = &s.interactions();
@@ -105,13 +157,30 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
     return 0;
   auto const &box = s.box();
   auto const &L = box.length();
-  auto const &ps = s.particles();
   int moved = 0;
-  for (int i = 0; i < size(); ++i) {
+  std::string err;
+  // the particles to check: all, or with the cell index of the last
+  // collision those near a colloid and those bounced since
+  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == size();
+  std::vector<int> cand;
+  if (indexed) {
+    for (auto const &c : cols) {
+      double r = 0.;
+      for (int t = 0; t < max_type; ++t)
+        r = std::max(r, boundary(c.type, t).radius);
+      near(c.R, r, L, cand);
+    }
+    cand.insert(cand.end(), m_loose.begin(), m_loose.end());
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  }
+  int const n_check = indexed ? static_cast<int>(cand.size()) : size();
+  for (int k = 0; k < n_check && err.empty(); ++k) {
+    int const i = indexed ? cand[k] : k;
     for (int attempt = 0;; ++attempt) {
       bool inside = false;
       for (auto const &c : cols) {
-        auto const b = boundary(ps.type[c.index], type[i]);
+        auto const b = boundary(c.type, type[i]);
         if (b.active && box.get_mi_vector(pos[i], c.R).norm2() < b.radius * b.radius) {
           inside = true;
           break;
@@ -121,26 +190,35 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
         break;
       if (attempt == 0)
         ++moved;
-      if (attempt > 10000)
-        throw Utils::RuntimeError("SRD: no free place found for particle " + std::to_string(id[i]) +
-                                  ": the colloids fill the box");
+      if (attempt > 10000) {
+        err = "SRD: no free place found for particle " + std::to_string(id[i]) + ": the colloids fill the box";
+        break;
+      }
       auto const u = Utils::noise_uniform(m_p.seed, Utils::RNGSalt::srd_init, key,
                                           static_cast<std::uint64_t>(id[i]),
                                           1000 + static_cast<std::uint64_t>(attempt));
       for (int d = 0; d < 3; ++d)
-        pos[i][d] = (u[d] + 0.5) * L[d];
+        pos[i][d] = d == m_p.wall_axis ? wall_lo() + (u[d] + 0.5) * (wall_hi(L[d]) - wall_lo())
+                                       : (u[d] + 0.5) * L[d];
       fold(pos[i], L);
     }
   }
-  return moved;
+  s.comm().throw_if_any(err);
+  if (moved > 0)
+    invalidate_index();
+  return static_cast<int>(s.comm().sum(static_cast<long long>(moved)));
 }
+
+long long Fluid::global_size(System const &s) const { return s.comm().sum(static_cast<long long>(size())); }
 
 void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_t seed) {
   auto const &L = s.box().length();
   int next = 0;
   for (int x : id)
     next = std::max(next, x + 1);
+  next = s.comm().max(next);
   int const first = size();
+  int const me = s.comm().rank();
   double const sig = std::sqrt(kT / m_p.mass);
   Vector3d vm{};
   for (int k = 0; k < n; ++k) {
@@ -148,18 +226,21 @@ void Fluid::add_particles(System const &s, int n, int t, double kT, std::uint64_
     auto const u = Utils::noise_uniform(seed, Utils::RNGSalt::srd_init, 0, static_cast<std::uint64_t>(pid), 0);
     Vector3d x;
     for (int d = 0; d < 3; ++d)
-      x[d] = (u[d] + 0.5) * L[d];
+      x[d] = d == m_p.wall_axis ? wall_lo() + (u[d] + 0.5) * (wall_hi(L[d]) - wall_lo()) : (u[d] + 0.5) * L[d];
     fold(x, L);
     auto const g = gauss4(seed, Utils::RNGSalt::srd_init, 1, static_cast<std::uint64_t>(pid), 0);
     Vector3d const vel = sig * Vector3d{g[0], g[1], g[2]};
     vm += vel;
-    pos.push_back(x), v.push_back(vel), id.push_back(pid), type.push_back(t);
+    // every rank draws all of them (keyed by id) and keeps those in its domain
+    if (const_cast<System &>(s).cells().owner_rank(x, s.box()) == me)
+      pos.push_back(x), v.push_back(vel), id.push_back(pid), type.push_back(t);
   }
   if (n > 1) {
     vm *= 1. / static_cast<double>(n);
     for (int i = first; i < size(); ++i)
       v[i] -= vm;
   }
+  invalidate_index();
   relocate_overlapping(const_cast<System &>(s), 0xadd0000ull + seed);
 }
 
@@ -186,10 +267,10 @@ int Fluid::prepare(System &s) {
   auto const cols = colloids_of(s, *this);
   for (auto const &c : cols) {
     for (int t = 0; t < max_type; ++t) {
-      auto const b = boundary(s.particles().type[c.index], t);
+      auto const b = boundary(c.type, t);
       if (b.active && b.rule != BoundaryRule::slip && !(c.I > 0.))
         throw Utils::RuntimeError(
-            "SRD: colloid " + std::to_string(s.particles().id[c.index]) +
+            "SRD: colloid " + std::to_string(c.id) +
             " has a stick boundary rule but cannot rotate (set rotation=True and rinertia, "
             "e.g. 0.4 M a^2; needs feature ROTATION)");
     }
@@ -206,12 +287,16 @@ void Fluid::stream(System &s, double dt) {
     double const h = 0.5 * L[drive.grad_dir];
     for (int i = 0; i < n; ++i)
       v[i][drive.flow_dir] += (pos[i][drive.grad_dir] < h ? drive.g : -drive.g) * dt;
+    m_vmax += std::abs(drive.g) * dt;
   }
-  if (drive.accel.norm2() > 0.)
+  if (drive.accel.norm2() > 0.) {
     for (int i = 0; i < n; ++i)
       v[i] += dt * drive.accel;
+    m_vmax += drive.accel.norm() * dt;
+  }
   if (m_p.wall_axis >= 0)
     walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
+  m_disp += m_vmax * dt;    // bound on the displacement since the last collision
   auto cols = colloids_of(s, *this);
   double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
   if (cols.empty()) {
@@ -229,78 +314,148 @@ void Fluid::stream(System &s, double dt) {
   std::vector<double> Rx(cols.size());
   for (std::size_t j = 0; j < cols.size(); ++j) {
     for (int t = 0; t < max_type; ++t)
-      r_max = std::max(r_max, boundary(ps.type[cols[j].index], t).radius);
+      r_max = std::max(r_max, boundary(cols[j].type, t).radius);
     Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
   }
+  double const r_search = r_max;
   if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
     r_max = INFINITY;
-  for (int i = 0; i < n; ++i) {
-    pos[i] += dt_free * v[i];
-    for (std::size_t j = 0; j < cols.size(); ++j) {
-      auto const &c = cols[j];
-      // quick rejection along x: pos (streamed once) and the folded centre
-      // differ by less than L + v dt, so one wrap gives the minimum image
-      // whenever it is shorter than r_max < L/2
-      double dx = pos[i][0] - Rx[j];
-      dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
-      if (std::abs(dx) >= r_max)
-        continue;
-      auto const b = boundary(ps.type[c.index], type[i]);
-      if (!b.active)
-        continue;
-      Vector3d d = box.get_mi_vector(pos[i], c.R);
-      if (d.norm2() >= b.radius * b.radius)
-        continue;
-      // seed 003: half a step back, onto the surface along the shortest vector
-      d -= (0.5 * dt) * v[i];
-      double const r = d.norm();
-      Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
-      Vector3d const arm = b.radius * nrm; // r* - R
-      Vector3d const vloc = c.V + cross(c.W, arm);
-      Vector3d vn;
-      if (b.rule == BoundaryRule::stochastic) {
-        // eqs. (1), (2) about the surface velocity: flux-weighted normal
-        // (Rayleigh) and Maxwellian tangential components
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
-                                          static_cast<std::uint64_t>(id[i]), 1);
-        double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
-        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-        t1 *= 1. / t1.norm();
-        Vector3d const t2 = cross(nrm, t1);
-        vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
-      } else if (b.rule == BoundaryRule::bounce_back) {
-        vn = 2. * vloc - v[i];
-      } else if (b.rule == BoundaryRule::rough) {
-        // mean tangential transfer of a rough-sphere collision (fraction 2K
-        // of the relative tangential velocity reversed); the rest redrawn
-        // from the Maxwellian so the rule keeps detailed balance
-        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
-        double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-        Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-        t1 *= 1. / t1.norm();
-        Vector3d const t2 = cross(nrm, t1);
-        Vector3d const vr = v[i] - vloc;
-        Vector3d const vr_n = (vr * nrm) * nrm;
-        vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
-      } else { // slip: specular reflection in the frame of the surface
-        double const vr = (v[i] - vloc) * nrm;
-        vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
-      }
-      Vector3d const dp = m_p.mass * (v[i] - vn);
-      dP[j] += dp;
-      dL[j] += cross(arm, dp);
-      v[i] = vn;
-      pos[i] = c.R + arm + (0.5 * dt) * vn;
-      break;
+  std::uint64_t const stamp = m_n_streams + 1;
+  // the impulses of this step, summed in the order of the particle ids
+  // below (the same sums whichever search found the particles)
+  struct Impulse {
+    int pid, j;
+    Vector3d dp, dl;
+  };
+  std::vector<Impulse> impulses;
+  // the boundary rule of colloid j for particle i (streamed by this step):
+  // true if it was inside and was put back on the surface
+  auto bounce = [&](int i, std::size_t j) {
+    auto const &c = cols[j];
+    auto const b = boundary(c.type, type[i]);
+    if (!b.active)
+      return false;
+    Vector3d d = box.get_mi_vector(pos[i], c.R);
+    if (d.norm2() >= b.radius * b.radius)
+      return false;
+    // seed 003: half a step back, onto the surface along the shortest vector
+    d -= (0.5 * dt) * v[i];
+    double const r = d.norm();
+    Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
+    Vector3d const arm = b.radius * nrm; // r* - R
+    Vector3d const vloc = c.V + cross(c.W, arm);
+    Vector3d vn;
+    if (b.rule == BoundaryRule::stochastic) {
+      // eqs. (1), (2) about the surface velocity: flux-weighted normal
+      // (Rayleigh) and Maxwellian tangential components
+      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+      auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
+                                        static_cast<std::uint64_t>(id[i]), 1);
+      double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
+      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+      t1 *= 1. / t1.norm();
+      Vector3d const t2 = cross(nrm, t1);
+      vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
+    } else if (b.rule == BoundaryRule::bounce_back) {
+      vn = 2. * vloc - v[i];
+    } else if (b.rule == BoundaryRule::rough) {
+      // mean tangential transfer of a rough-sphere collision (fraction 2K
+      // of the relative tangential velocity reversed); the rest redrawn
+      // from the Maxwellian so the rule keeps detailed balance
+      constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+      double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
+      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
+      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+      t1 *= 1. / t1.norm();
+      Vector3d const t2 = cross(nrm, t1);
+      Vector3d const vr = v[i] - vloc;
+      Vector3d const vr_n = (vr * nrm) * nrm;
+      vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
+    } else { // slip: specular reflection in the frame of the surface
+      double const vr = (v[i] - vloc) * nrm;
+      vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
     }
+    Vector3d const dp = m_p.mass * (v[i] - vn);
+    impulses.push_back({id[i], static_cast<int>(j), dp, cross(arm, dp)});
+    v[i] = vn;
+    pos[i] = c.R + arm + (0.5 * dt) * vn;
     fold(pos[i], L);
+    return true;
+  };
+  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == n;
+  if (indexed) {
+    // the cell index of the last collision: a particle now within r of a
+    // colloid sat, at the sort, in a cell within r + m_disp of it; the
+    // particles bounced since the sort (m_loose) are checked one by one
+    for (int i = 0; i < n; ++i) {
+      pos[i] += dt_free * v[i];
+      fold(pos[i], L);
+    }
+    std::vector<int> hits;
+    std::vector<int> cand;
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      cand.clear();
+      near(cols[j].R, r_search, L, cand);
+      for (int i : cand)
+        if (m_hit[i] != stamp && bounce(i, j)) {
+          m_hit[i] = stamp;
+          hits.push_back(i);
+        }
+    }
+    for (std::size_t k = 0; k < m_loose.size(); ++k) {
+      int const i = m_loose[k];
+      if (m_hit[i] == stamp)
+        continue;
+      for (std::size_t j = 0; j < cols.size(); ++j)
+        if (bounce(i, j)) {
+          m_hit[i] = stamp;
+          hits.push_back(i);
+          break;
+        }
+    }
+    for (int i : hits) // their displacement is no longer bounded by m_disp
+      if (!m_is_loose[i]) {
+        m_is_loose[i] = 1;
+        m_loose.push_back(i);
+      }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      pos[i] += dt_free * v[i];
+      fold(pos[i], L); // folded before the checks, as in the indexed search
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        // quick rejection along x: pos (streamed once) and the folded centre
+        // differ by less than L + v dt, so one wrap gives the minimum image
+        // whenever it is shorter than r_max < L/2
+        double dx = pos[i][0] - Rx[j];
+        dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
+        if (std::abs(dx) >= r_max)
+          continue;
+        if (bounce(i, j))
+          break;
+      }
+    }
+  }
+  std::sort(impulses.begin(), impulses.end(), [](Impulse const &a, Impulse const &b) { return a.pid < b.pid; });
+  for (auto const &h : impulses) {
+    dP[h.j] += h.dp;
+    dL[h.j] += h.dl;
+  }
+  if (s.comm().parallel()) { // impulses from every rank's SRD particles
+    std::vector<double> buf(6 * cols.size());
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      for (int d = 0; d < 3; ++d)
+        buf[6 * j + d] = dP[j][d], buf[6 * j + 3 + d] = dL[j][d];
+    s.comm().sum_inplace(buf.data(), static_cast<int>(buf.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      for (int d = 0; d < 3; ++d)
+        dP[j][d] = buf[6 * j + d], dL[j][d] = buf[6 * j + 3 + d];
   }
   for (std::size_t j = 0; j < cols.size(); ++j) {
-    int const k = cols[j].index;
-    ps.v[k] += dP[j] / cols[j].M;
     momentum_to_colloids += dP[j];
+    int const k = cols[j].index;
+    if (k < 0)
+      continue; // owned by another rank
+    ps.v[k] += dP[j] / cols[j].M;
 #ifdef ROTATION
     if (cols[j].I > 0.)
       ps.omega[k] += dL[j] / cols[j].I;
@@ -312,19 +467,19 @@ void Fluid::stream(System &s, double dt) {
 // the boundary rule in the frame of the wall, the rest of the step streamed.
 void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
   int const a = m_p.wall_axis;
-  double const La = L[a];
+  double const z0 = wall_lo(), z1 = wall_hi(L[a]);
   double const sig = std::sqrt(m_p.kT / m_p.mass);
   auto const rule = static_cast<BoundaryRule>(m_p.wall_rule);
   for (int i = 0; i < size(); ++i) {
     double t_left = dt;
     for (int bounce = 0; bounce < 4; ++bounce) {
       double const z = pos[i][a] + t_left * v[i][a];
-      if (z >= 0. && z < La)
+      if (z >= z0 && z < z1)
         break;
-      bool const lo = z < 0.;
-      double const tc = std::clamp(((lo ? 0. : La) - pos[i][a]) / v[i][a], 0., t_left);
+      bool const lo = z < z0;
+      double const tc = std::clamp(((lo ? z0 : z1) - pos[i][a]) / v[i][a], 0., t_left);
       pos[i] += tc * v[i];
-      pos[i][a] = lo ? 0. : std::nextafter(La, 0.);
+      pos[i][a] = lo ? z0 : std::nextafter(z1, z0);
       t_left -= tc;
       Vector3d nrm{};
       nrm[a] = lo ? 1. : -1.; // into the fluid
@@ -347,10 +502,11 @@ void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
       }
       (lo ? momentum_to_wall_lo : momentum_to_wall_hi) += m_p.mass * (v[i] - vn);
       v[i] = vn;
+      m_vmax = std::max(m_vmax, vn.norm()); // the colloid search's displacement bound
     }
     pos[i] += t_left * v[i];
-    if (pos[i][a] < 0. || pos[i][a] >= La) // pathological: still outside
-      pos[i][a] = std::clamp(pos[i][a], 0., std::nextafter(La, 0.));
+    if (pos[i][a] < z0 || pos[i][a] >= z1) // pathological: still outside
+      pos[i][a] = std::clamp(pos[i][a], z0, std::nextafter(z1, z0));
   }
 }
 
@@ -360,7 +516,7 @@ void Fluid::md_step(System &s) {
   stream(s, s.time_step());
   ++m_n_streams;
   if (m_n_tau > 0 && m_n_streams % static_cast<std::uint64_t>(m_n_tau) == 0)
-    collide(s.box());
+    collide(s);
 }
 
 } // namespace Marble::Srd

@@ -50,6 +50,9 @@ struct Params {
   int wall_axis = -1;
   int wall_rule = 0; // a BoundaryRule value
   Utils::Vector3d wall_v_lo{}, wall_v_hi{};
+  // positions of the two planes along wall_axis (wall_hi < 0: the box
+  // length); the SRD particles live in [wall_lo, wall_hi)
+  double wall_lo = 0., wall_hi = -1.;
 };
 
 /** Boundary of colloid type c for SRD type s: a hard sphere of radius
@@ -88,6 +91,9 @@ public:
   /** Throws std::invalid_argument unless tau is a multiple of @p dt and
    * cell_size divides the box; stores the number of steps per collision. */
   void check_geometry(BoxGeometry const &box, double dt);
+  /** The planes of the channel walls along wall_axis for box length @p La. */
+  double wall_lo() const { return m_p.wall_lo; }
+  double wall_hi(double La) const { return m_p.wall_hi < 0. ? La : m_p.wall_hi; }
   /** Number of collision cells per axis. */
   Utils::Vector3i grid() const { return m_grid; }
   /** Ids of the SRD types. */
@@ -113,20 +119,34 @@ public:
   /** One MD step: stream by time_step (bouncing off colloids, handing the
    * impulses to them) and collide when due. Called after the MD drift. */
   void md_step(System &s);
-  /** One collision at the current state (grid shift, rotation/AT, thermostat). */
-  void collide(BoxGeometry const &box);
+  /** One collision at the current state (grid shift, rotation/AT, thermostat).
+   * Collective: migrates the SRD particles to the ranks owning their
+   * positions, cells straddling domain faces are reduced over the ranks. */
+  void collide(System &s);
+  /** Send every SRD particle to the rank whose domain holds it. Collective. */
+  void migrate(System &s);
+  /** Number of SRD particles on all ranks. Collective. */
+  long long global_size(System const &s) const;
+  /** Forget the cell index of the last collision (after particles were
+   * added, moved or given new velocities outside a run): the colloids then
+   * search all SRD particles until the next collision. */
+  void invalidate_index() { m_index_valid = false; }
 
   Drive drive;
 
-  /** Sum of momentum exchanged with colloids (diagnostics). */
+  /** Sum of momentum exchanged with colloids (diagnostics; the same on every rank). */
   Utils::Vector3d momentum_to_colloids{};
-  /** Momentum handed to the lower / upper channel wall (wall stress). */
+  /** Momentum handed to the lower / upper channel wall (wall stress): this
+   * rank's share, sum over the ranks for the total. */
   Utils::Vector3d momentum_to_wall_lo{}, momentum_to_wall_hi{};
 
 private:
   void stream(System &s, double dt);
   void walls(std::uint64_t step, double dt, Utils::Vector3d const &L);
   int relocate_overlapping(System &s, std::uint64_t key);
+  /** Append the indices of the particles that may lie within @p r of @p R
+   * (needs the cell index of the last collision). */
+  void near(Utils::Vector3d R, double r, Utils::Vector3d const &L, std::vector<int> &out) const;
   Params m_p;
   int m_n_tau = 0;
   Utils::Vector3i m_grid{};
@@ -134,8 +154,19 @@ private:
   std::uint64_t m_n_streams = 0;
   InteractionTable const *m_ia = nullptr; // the System's interaction table
   // collision scratch
-  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2;
-  std::vector<Utils::Vector3d> m_p2, m_v2;
+  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2, m_slot;
+  std::vector<Utils::Vector3d> m_p2, m_v2, m_xi, m_r;
+  // colloid search (stream): the particles are in the cell order of the
+  // last collision (m_count: cell starts); m_disp bounds how far any
+  // particle moved since, m_vmax the speeds; particles bounced off a colloid
+  // since then (m_loose) are checked one by one
+  bool m_index_valid = false;
+  Utils::Vector3d m_index_shift{};
+  Utils::Vector3i m_index_dim{};
+  double m_disp = 0., m_vmax = 0.;
+  std::vector<std::uint64_t> m_hit;
+  std::vector<int> m_loose;
+  std::vector<char> m_is_loose;
 };
 
 } // namespace Srd

@@ -1,11 +1,25 @@
 // SRD collision step (reference.md section 6; Malevanets & Kapral 1999;
 // Andersen variant: Allahyari & Gompper / Noguchi et al.; the cell thermostat
 // draws the relative kinetic energy of a cell from its Gamma distribution).
+//
+// On several MPI ranks (doc/srd.md, "Parallel runs"): the SRD particles are
+// first migrated to the rank whose domain holds them, then every rank sorts
+// its particles into the (global, shifted) collision cells. A cell that may
+// straddle a domain face (every cell of the slabs next to a face, the same
+// list on every rank) has its sums (count, momentum, and the Andersen and
+// angular parts) reduced over the ranks before the collision, and, for the
+// thermostat and the angular-momentum correction, a second set of sums after
+// the first half of it; all other cells are local. The noise of a cell is
+// keyed by its global index, so every rank applies the same rotation and the
+// trajectory does not depend on the number of ranks (up to the order of the
+// floating-point sums of the shared cells).
 #include "srd/Fluid.hpp"
 #include "srd/random.hpp"
 
 #include "box/BoxGeometry.hpp"
+#include "system/System.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace Marble::Srd {
@@ -42,9 +56,48 @@ bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
   }
   return true;
 }
+
+// Per-cell sums. A: count, sum v, sum xi (AT), sum r (AT+a).
+// B: relative kinetic energy (thermostat) or the inertia tensor and the
+// angular momentum to restore (AT+a).
+constexpr int nA = 10, nB = 13;
+
+struct SrdRecord {
+  Vector3d pos, v;
+  int id, type;
+};
+static_assert(std::is_trivially_copyable_v<SrdRecord>);
 } // namespace
 
-void Fluid::collide(BoxGeometry const &box) {
+void Fluid::migrate(System &s) {
+  auto const &comm = s.comm();
+  if (!comm.parallel())
+    return;
+  auto const &box = s.box();
+  int const me = comm.rank();
+  std::vector<std::vector<SrdRecord>> send(comm.size());
+  int keep = 0;
+  for (int i = 0; i < size(); ++i) {
+    int const r = s.cells().owner_rank(pos[i], box);
+    if (r == me) {
+      pos[keep] = pos[i], v[keep] = v[i], id[keep] = id[i], type[keep] = type[i];
+      ++keep;
+    } else {
+      send[r].push_back({pos[i], v[i], id[i], type[i]});
+    }
+  }
+  pos.resize(keep), v.resize(keep), id.resize(keep), type.resize(keep);
+  auto const recv = comm.alltoallv(send);
+  for (auto const &from : recv)
+    for (auto const &rec : from)
+      pos.push_back(rec.pos), v.push_back(rec.v), id.push_back(rec.id), type.push_back(rec.type);
+}
+
+void Fluid::collide(System &s) {
+  m_ia = &s.interactions();
+  migrate(s);
+  auto const &comm = s.comm();
+  auto const &box = s.box();
   auto const &L = box.length();
   double const a0 = m_p.cell_size;
   std::uint64_t const c = m_n_collisions;
@@ -58,21 +111,22 @@ void Fluid::collide(BoxGeometry const &box) {
   if (m_p.wall_axis >= 0)
     gdim[m_p.wall_axis] += 2;
   int const n_cells = gdim[0] * gdim[1] * gdim[2];
+  double const inv_a0 = 1. / a0;
+  auto cell_coord = [&](double x, int d) {
+    // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d]
+    int k = static_cast<int>(std::floor((x - shift[d]) * inv_a0));
+    if (d == m_p.wall_axis)
+      return std::clamp(k + 1, 0, gdim[d] - 1);
+    k %= m_grid[d];
+    return k < 0 ? k + m_grid[d] : k;
+  };
   // counting sort of the particles into the shifted cells
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
-  double const inv_a0 = 1. / a0;
   for (int i = 0; i < n; ++i) {
     int g = 0;
-    for (int d = 0; d < 3; ++d) {
-      // pos in [0, L), shift in (-a0/2, a0/2]: k in [-1, n_d]
-      int k = static_cast<int>(std::floor((pos[i][d] - shift[d]) * inv_a0));
-      if (d == m_p.wall_axis)
-        k += 1;
-      else
-        k = k < 0 ? k + m_grid[d] : (k >= m_grid[d] ? k - m_grid[d] : k);
-      g = g * gdim[d] + k;
-    }
+    for (int d = 0; d < 3; ++d)
+      g = g * gdim[d] + cell_coord(pos[i][d], d);
     m_cell[i] = g;
     ++m_count[g + 1];
   }
@@ -89,77 +143,131 @@ void Fluid::collide(BoxGeometry const &box) {
     m_p2[k] = pos[i], m_v2[k] = v[i], m_id2[k] = id[i], m_t2[k] = type[i];
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
+
+  // cells shared between ranks: the slabs of cells next to every domain face
+  // (conservatively the cell holding the face and its two neighbours), the
+  // same sorted list on every rank
+  std::vector<int> shared;
+  if (comm.parallel()) {
+    auto const ng = s.cells().node_grid(box);
+    m_slot.assign(n_cells, -1);
+    for (int d = 0; d < 3; ++d) {
+      if (ng[d] < 2)
+        continue;
+      std::vector<char> slab(gdim[d], 0);
+      for (int j = 0; j < ng[d]; ++j) {
+        double const face = j * (L[d] / ng[d]);
+        int const kf = static_cast<int>(std::floor((face - shift[d]) * inv_a0));
+        for (int dk = -1; dk <= 1; ++dk) {
+          int k = kf + dk;
+          if (d == m_p.wall_axis) {
+            k += 1;
+            if (k >= 0 && k < gdim[d])
+              slab[k] = 1;
+          } else {
+            k %= m_grid[d];
+            slab[k < 0 ? k + m_grid[d] : k] = 1;
+          }
+        }
+      }
+      int const d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+      for (int k = 0; k < gdim[d]; ++k) {
+        if (!slab[k])
+          continue;
+        Utils::Vector3i q;
+        q[d] = k;
+        for (q[d1] = 0; q[d1] < gdim[d1]; ++q[d1])
+          for (q[d2] = 0; q[d2] < gdim[d2]; ++q[d2])
+            m_slot[(q[0] * gdim[1] + q[1]) * gdim[2] + q[2]] = 0;
+      }
+    }
+    for (int g = 0; g < n_cells; ++g)
+      if (m_slot[g] == 0) {
+        m_slot[g] = static_cast<int>(shared.size());
+        shared.push_back(g);
+      }
+  }
+  auto slot_of = [&](int g) { return comm.parallel() ? m_slot[g] : -1; };
+
   double const ca = std::cos(m_p.angle), sa = std::sin(m_p.angle);
   double const sig = std::sqrt(m_p.kT / m_p.mass);
-  std::vector<Vector3d> xi;
-  for (int g = 0; g < n_cells; ++g) {
-    int const b = m_count[g], e = m_count[g + 1], nc = e - b;
-    if (nc < 2)
-      continue; // one particle: nothing to exchange
-    Vector3d u{};
+  bool const at = m_p.rule == CollisionRule::at;
+  bool const ang = at && m_p.conserve_angular;
+  bool const thermo = !at && m_p.thermostat;
+  if (at)
+    m_xi.resize(n);
+  if (ang)
+    m_r.resize(n);
+
+  // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
+  auto sums_A = [&](int b, int e, double *A) {
+    std::fill(A, A + nA, 0.);
+    A[0] = e - b;
+    Vector3d sv{}, sx{}, sr{};
     for (int i = b; i < e; ++i)
-      u += v[i];
-    u *= 1. / static_cast<double>(nc);
-    if (m_p.rule == CollisionRule::srd) {
+      sv += v[i];
+    if (at)
+      for (int i = b; i < e; ++i) {
+        auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_at, c, static_cast<std::uint64_t>(id[i]), 0);
+        m_xi[i] = sig * Vector3d{r[0], r[1], r[2]};
+        sx += m_xi[i];
+      }
+    if (ang)
+      for (int i = b; i < e; ++i) {
+        // positions relative to the shifted cell's corner, no periodic jump
+        for (int d = 0; d < 3; ++d) {
+          double const y = pos[i][d] - shift[d];
+          m_r[i][d] = y - a0 * std::floor(y / a0);
+        }
+        sr += m_r[i];
+      }
+    for (int d = 0; d < 3; ++d)
+      A[1 + d] = sv[d], A[4 + d] = sx[d], A[7 + d] = sr[d];
+  };
+  struct Mean {
+    double nc;
+    Vector3d u, xm, rc;
+  };
+  auto means = [](double const *A) {
+    Mean m{A[0], {A[1], A[2], A[3]}, {A[4], A[5], A[6]}, {A[7], A[8], A[9]}};
+    double const inv = 1. / m.nc;
+    m.u *= inv, m.xm *= inv, m.rc *= inv;
+    return m;
+  };
+  // first half: rotation (rule srd), local B sums
+  auto stage1 = [&](int g, int b, int e, Mean const &m, double *B) {
+    std::fill(B, B + nB, 0.);
+    if (!at) {
       Vector3d const axis = random_axis(m_p.seed, c, static_cast<std::uint64_t>(g));
       for (int i = b; i < e; ++i)
-        v[i] = u + rotate(v[i] - u, axis, ca, sa);
-    } else { // Andersen: new relative velocities from the Maxwellian
-      xi.resize(nc);
-      Vector3d xm{};
-      for (int k = 0; k < nc; ++k) {
-        auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_at, c,
-                              static_cast<std::uint64_t>(id[b + k]), 0);
-        xi[k] = sig * Vector3d{r[0], r[1], r[2]};
-        xm += xi[k];
+        v[i] = m.u + rotate(v[i] - m.u, axis, ca, sa);
+      if (thermo) {
+        double e_now = 0.;
+        for (int i = b; i < e; ++i)
+          e_now += (v[i] - m.u).norm2();
+        B[0] = e_now;
       }
-      xm *= 1. / static_cast<double>(nc);
-      Vector3d omega{};
-      Vector3d rc{};
-      if (m_p.conserve_angular) {
-        // AT+a: restore the cell's angular momentum about its centre of mass
-        // (positions relative to the shifted cell's corner, no periodic jump)
-        std::vector<Vector3d> r(nc);
-        for (int k = 0; k < nc; ++k) {
-          for (int d = 0; d < 3; ++d) {
-            double const y = pos[b + k][d] - shift[d];
-            r[k][d] = y - a0 * std::floor(y / a0);
-          }
-          rc += r[k];
-        }
-        rc *= 1. / static_cast<double>(nc);
-        double I[3][3] = {};
-        Vector3d dL{};
-        for (int k = 0; k < nc; ++k) {
-          Vector3d const q = r[k] - rc;
-          double const q2 = q.norm2();
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              I[i][j] += (i == j ? q2 : 0.) - q[i] * q[j];
-          dL += cross(q, v[b + k] - u - (xi[k] - xm));
-        }
-        bool ok = solve3(I, dL, omega);
-        if (!ok && nc == 2) { // collinear pair: I = 2(q^2 - q q), dL is normal to q
-          double const tr = I[0][0] + I[1][1] + I[2][2];
-          ok = tr > 0.;
-          omega = (tr > 0. ? 2. / tr : 0.) * dL;
-        }
-        if (ok)
-          for (int k = 0; k < nc; ++k)
-            xi[k] += cross(omega, r[k] - rc);
+    } else if (ang) {
+      Vector3d dL{};
+      for (int i = b; i < e; ++i) {
+        Vector3d const q = m_r[i] - m.rc;
+        double const q2 = q.norm2();
+        for (int x = 0; x < 3; ++x)
+          for (int y = 0; y < 3; ++y)
+            B[1 + 3 * x + y] += (x == y ? q2 : 0.) - q[x] * q[y];
+        dL += cross(q, v[i] - m.u - (m_xi[i] - m.xm));
       }
-      for (int k = 0; k < nc; ++k)
-        v[b + k] = u + xi[k] - xm;
-      continue;
+      for (int d = 0; d < 3; ++d)
+        B[10 + d] = dL[d];
     }
-    if (m_p.thermostat) {
+  };
+  // second half: thermostat scaling (srd) or the new velocities (AT)
+  auto stage2 = [&](int g, int b, int e, Mean const &m, double const *B) {
+    if (thermo) {
       // scale relative velocities so the cell's relative kinetic energy is a
       // draw from its equilibrium Gamma(3(nc-1)/2, kT) distribution
-      double e_now = 0.;
-      for (int i = b; i < e; ++i)
-        e_now += (v[i] - u).norm2();
-      e_now *= 0.5 * m_p.mass;
-      int const dof = 3 * (nc - 1);
+      double const e_now = 0.5 * m_p.mass * B[0];
+      int const dof = 3 * (static_cast<int>(m.nc) - 1);
       double e_new = 0.;
       for (int k = 0; k < dof; k += 4) {
         auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_thermo, c, static_cast<std::uint64_t>(g),
@@ -171,11 +279,86 @@ void Fluid::collide(BoxGeometry const &box) {
       if (e_now > 0.) {
         double const f = std::sqrt(e_new / e_now);
         for (int i = b; i < e; ++i)
-          v[i] = u + f * (v[i] - u);
+          v[i] = m.u + f * (v[i] - m.u);
       }
     }
+    if (!at)
+      return;
+    Vector3d omega{};
+    bool ok = false;
+    if (ang) {
+      double I[3][3];
+      for (int x = 0; x < 3; ++x)
+        for (int y = 0; y < 3; ++y)
+          I[x][y] = B[1 + 3 * x + y];
+      Vector3d const dL{B[10], B[11], B[12]};
+      ok = solve3(I, dL, omega);
+      if (!ok && m.nc == 2.) { // collinear pair: I = 2(q^2 - q q), dL is normal to q
+        double const tr = I[0][0] + I[1][1] + I[2][2];
+        ok = tr > 0.;
+        omega = (tr > 0. ? 2. / tr : 0.) * dL;
+      }
+    }
+    for (int i = b; i < e; ++i) {
+      Vector3d xi = m_xi[i];
+      if (ok)
+        xi += cross(omega, m_r[i] - m.rc);
+      v[i] = m.u + xi - m.xm;
+    }
+  };
+
+  // local cells: everything at once; shared cells: their A sums collected
+  std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
+  double A[nA], B[nB];
+  for (int g = 0; g < n_cells; ++g) {
+    int const b = m_count[g], e = m_count[g + 1];
+    if (e == b)
+      continue;
+    int const sl = slot_of(g);
+    if (sl >= 0) {
+      sums_A(b, e, &bufA[static_cast<std::size_t>(sl) * nA]);
+      continue;
+    }
+    if (e - b < 2)
+      continue; // one particle: nothing to exchange
+    sums_A(b, e, A);
+    auto const m = means(A);
+    stage1(g, b, e, m, B);
+    stage2(g, b, e, m, B);
   }
-  (void)L;
+  if (!shared.empty()) {
+    comm.sum_inplace(bufA.data(), static_cast<int>(bufA.size()));
+    std::vector<Mean> ms(shared.size());
+    for (std::size_t k = 0; k < shared.size(); ++k) {
+      double const *Ak = &bufA[k * nA];
+      if (Ak[0] < 2.)
+        continue;
+      ms[k] = means(Ak);
+      int const g = shared[k];
+      stage1(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+    }
+    if (thermo || ang)
+      comm.sum_inplace(bufB.data(), static_cast<int>(bufB.size()));
+    for (std::size_t k = 0; k < shared.size(); ++k) {
+      if (bufA[k * nA] < 2.)
+        continue;
+      int const g = shared[k];
+      if (m_count[g + 1] > m_count[g])
+        stage2(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+    }
+  }
+  // the cell index for the colloid search of the next streaming steps
+  double v2max = 0.;
+  for (int i = 0; i < n; ++i)
+    v2max = std::max(v2max, v[i].norm2());
+  m_vmax = std::sqrt(v2max);
+  m_disp = 0.;
+  m_index_shift = shift;
+  m_index_dim = gdim;
+  m_hit.assign(n, 0);
+  m_is_loose.assign(n, 0);
+  m_loose.clear();
+  m_index_valid = true;
   ++m_n_collisions;
 }
 

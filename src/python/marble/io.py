@@ -57,7 +57,12 @@ class H5md:
         created System, as for observables).
     fields : "all" or list of str
         Subset of position, image, velocity, force, species, mass, id, box,
-        time, step. ``step`` is always written (H5MD requires it).
+        time, step, srd. ``step`` is always written (H5MD requires it).
+        ``srd``: the particles of an SRD solvent (``system.srd``, feature SRD)
+        in their own group ``/particles/srd`` (position, velocity, species,
+        id: those of them listed; rows by increasing SRD id; box, step and
+        time shared with ``/particles/atoms``), if the fluid has particles
+        when the first frame is written.
     author : str, optional
         ``h5md/author`` name (default: the user name).
     mode : "w" or "append"

@@ -30,7 +30,7 @@ from .code_features import assert_features
 
 _PARAMS = ("types", "cell_size", "tau", "angle", "kT", "mass", "seed", "shift", "rule",
            "thermostat", "conserve_angular", "wall_axis", "wall_rule", "wall_velocity_lo",
-           "wall_velocity_hi")
+           "wall_velocity_hi", "wall_positions")
 
 
 class SRDFluid:
@@ -67,6 +67,10 @@ class SRDFluid:
     wall_rule : "stochastic" | "bounce_back" | "slip"
     wall_velocity_lo, wall_velocity_hi : 3-vectors tangential to the walls
         Wall velocities (Couette flow).
+    wall_positions : (lo, hi), optional
+        Positions of the two walls along ``wall_axis`` (default: the box
+        faces 0 and L), 0 <= lo, hi <= L, hi - lo >= cell_size; the SRD
+        particles live between them (``add_fluid`` fills the channel).
     """
 
     def __init__(self, **kwargs):
@@ -89,6 +93,7 @@ class SRDFluid:
 
     @property
     def n(self):
+        """Number of SRD particles (on all MPI ranks)."""
         return self._system._core.srd_n() if self._system is not None else 0
 
     def __len__(self):
@@ -96,6 +101,9 @@ class SRDFluid:
 
     @property
     def pos(self):
+        """Folded positions (N, 3) of the SRD particles, in their stored order
+        (the order of ``ids``; on several MPI ranks every rank's particles in
+        rank order: match by ``ids``). Setting takes the same order. Collective."""
         return self._system._core.srd_pos()
 
     @pos.setter
@@ -104,6 +112,7 @@ class SRDFluid:
 
     @property
     def v(self):
+        """Velocities (N, 3), in the order of ``pos`` and ``ids``. Collective."""
         return self._system._core.srd_v()
 
     @v.setter
@@ -112,10 +121,12 @@ class SRDFluid:
 
     @property
     def ids(self):
+        """Ids of the SRD particles, in the order of ``pos``. Collective."""
         return np.asarray(self._system._core.srd_ids())
 
     @property
     def type(self):
+        """Types of the SRD particles, in the order of ``pos``. Collective."""
         return np.asarray(self._system._core.srd_types())
 
     @property
@@ -166,7 +177,7 @@ def _attach(system, fluid):
 
 def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None):
     """Add ``density * volume`` (or ``n``) SRD particles of ``type``: uniform
-    positions outside the colloids, Maxwellian velocities at ``kT`` with zero
+    positions outside the colloids (between the walls, if any), Maxwellian velocities at ``kT`` with zero
     total momentum. Returns the number added."""
     if getattr(system, "_srd", None) is None:
         raise RuntimeError("no SRD fluid: set system.srd = marble.srd.SRDFluid(...) first")
@@ -174,7 +185,12 @@ def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None):
         density = float(density)
         if not np.isfinite(density) or density < 0:
             raise ValueError(f"parameter 'density' must be a finite number >= 0, got {density}")
-        n = int(round(density * np.prod(system.box_l)))
+        volume = float(np.prod(system.box_l))
+        par = system._core.srd_get_params()
+        if "wall_positions" in par:  # the channel between the walls
+            lo, hi = par["wall_positions"]
+            volume *= (hi - lo) / system.box_l[par["wall_axis"]]
+        n = int(round(density * volume))
     system._core.srd_add_particles(n, type, kT, seed)
     return n
 
