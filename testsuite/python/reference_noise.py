@@ -14,16 +14,22 @@ SALT_DPD = 1           # RNGSalt::dpd
 SALT_WALL = 3          # RNGSalt::tunable_slip_wall
 
 
-def philox4x64(ctr, key):
-    """Philox4x64-10 of a 4-word counter and a 2-word key."""
+def _philox4(ctr, key, bits, m0, m1, w0, w1):
+    """Philox4xW-10 (Salmon et al. 2011) with W = @p bits-bit words."""
+    mask = (1 << bits) - 1
     c = list(ctr)
     k0, k1 = key
     for rnd in range(10):
         if rnd:
-            k0, k1 = (k0 + W0) & MASK, (k1 + W1) & MASK
-        p0, p1 = M0 * c[0], M1 * c[2]
-        c = [(p1 >> 64) ^ c[1] ^ k0, p1 & MASK, (p0 >> 64) ^ c[3] ^ k1, p0 & MASK]
+            k0, k1 = (k0 + w0) & mask, (k1 + w1) & mask
+        p0, p1 = m0 * c[0], m1 * c[2]
+        c = [(p1 >> bits) ^ c[1] ^ k0, p1 & mask, (p0 >> bits) ^ c[3] ^ k1, p0 & mask]
     return c
+
+
+def philox4x64(ctr, key):
+    """Philox4x64-10 of a 4-word counter and a 2-word key."""
+    return _philox4(ctr, key, 64, M0, M1, W0, W1)
 
 
 def uniform3(seed, salt, counter, id_a, id_b):
@@ -43,14 +49,7 @@ W0_32, W1_32 = 0x9E3779B9, 0xBB67AE85
 
 def philox4x32(ctr, key):
     """Philox4x32-10 of a 4-word counter and a 2-word key (32-bit words)."""
-    c = list(ctr)
-    k0, k1 = key
-    for rnd in range(10):
-        if rnd:
-            k0, k1 = (k0 + W0_32) & MASK32, (k1 + W1_32) & MASK32
-        p0, p1 = M0_32 * c[0], M1_32 * c[2]
-        c = [(p1 >> 32) ^ c[1] ^ k0, p1 & MASK32, (p0 >> 32) ^ c[3] ^ k1, p0 & MASK32]
-    return c
+    return _philox4(ctr, key, 32, M0_32, M1_32, W0_32, W1_32)
 
 
 def pair_uniform3(seed, salt, counter, id_lo, id_hi):

@@ -214,6 +214,25 @@ struct H5mdFile::Impl {
     check(rc, "writing a dataset");
   }
 
+  /** A time series @p name (value [frames, n(, cols)]) in group @p parent, appended to @p into;
+   * nothing if @p on is false or there are no rows. */
+  void add_series(std::vector<Series> &into, hid_t parent, hsize_t n, bool on, char const *name, int cols,
+                  hid_t file_type, hid_t mem_type) {
+    if (!on || n == 0)
+      return;
+    Series s;
+    s.name = name;
+    s.cols = cols;
+    s.file_type = file_type;
+    s.mem_type = mem_type;
+    s.group = group(parent, name);
+    std::vector<hsize_t> inner{n};
+    if (cols)
+      inner.push_back(static_cast<hsize_t>(cols));
+    s.value = dataset(s.group, "value", file_type, inner, 1);
+    into.push_back(s);
+  }
+
   void create_datasets(long n_particles, long n_srd_particles) {
     if (n_srd_particles > 0) {
       n_srd = n_srd_particles;
@@ -226,16 +245,7 @@ struct H5mdFile::Impl {
       attr_strings(srd_box, "boundary", boundary);
       auto const Ns = static_cast<hsize_t>(n_srd_particles);
       auto add_srd = [&](bool on, char const *name, int cols, hid_t file_type, hid_t mem_type) {
-        if (!on)
-          return;
-        Series s;
-        s.name = name, s.cols = cols, s.file_type = file_type, s.mem_type = mem_type;
-        s.group = group(srd, name);
-        std::vector<hsize_t> inner{Ns};
-        if (cols)
-          inner.push_back(static_cast<hsize_t>(cols));
-        s.value = dataset(s.group, "value", file_type, inner, 1);
-        srd_series.push_back(s);
+        add_series(srd_series, srd, Ns, on, name, cols, file_type, mem_type);
       };
       add_srd(fields.position, "position", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
       add_srd(fields.velocity, "velocity", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
@@ -244,19 +254,7 @@ struct H5mdFile::Impl {
     }
     auto const N = static_cast<hsize_t>(n_particles);
     auto add = [&](bool on, char const *name, int cols, hid_t file_type, hid_t mem_type) {
-      if (!on || N == 0)
-        return;
-      Series s;
-      s.name = name;
-      s.cols = cols;
-      s.file_type = file_type;
-      s.mem_type = mem_type;
-      s.group = group(atoms, name);
-      std::vector<hsize_t> inner{N};
-      if (cols)
-        inner.push_back(static_cast<hsize_t>(cols));
-      s.value = dataset(s.group, "value", file_type, inner, 1);
-      series.push_back(s);
+      add_series(series, atoms, N, on, name, cols, file_type, mem_type);
     };
     add(fields.position, "position", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
     add(fields.image, "image", 3, H5T_STD_I32LE, H5T_NATIVE_INT);
