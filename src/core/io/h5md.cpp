@@ -46,6 +46,32 @@ struct Series {
   hid_t file_type = -1, mem_type = -1;
 };
 
+/** Where this rank's particles go in a frame whose rows are ordered by id:
+ * (row, local index) in increasing row order, and the runs [first row,
+ * length) of consecutive rows. */
+struct RowLayout {
+  std::vector<std::pair<hsize_t, int>> rows;
+  std::vector<std::array<hsize_t, 2>> runs;
+};
+
+/** @p all_ids: every rank's ids, sorted; @p local: this rank's @p n ids. */
+RowLayout row_layout(std::vector<int> const &all_ids, int const *local, int n) {
+  RowLayout l;
+  l.rows.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    auto const it = std::lower_bound(all_ids.begin(), all_ids.end(), local[i]);
+    l.rows.emplace_back(static_cast<hsize_t>(it - all_ids.begin()), i);
+  }
+  std::sort(l.rows.begin(), l.rows.end());
+  for (auto const &[r, i] : l.rows) {
+    if (!l.runs.empty() && l.runs.back()[0] + l.runs.back()[1] == r)
+      ++l.runs.back()[1];
+    else
+      l.runs.push_back({r, 1});
+  }
+  return l;
+}
+
 } // namespace
 
 struct H5mdFile::Impl {
@@ -186,10 +212,17 @@ struct H5mdFile::Impl {
     check(rc, "writing a dataset");
   }
 
-  /** Collective write of this rank's rows: @p runs are [first row, length)
-   * in increasing order, @p buf holds the rows in that order. */
-  void write_rows(Series const &s, std::vector<std::array<hsize_t, 2>> const &runs,
-                  void const *buf, hsize_t n_rows) const {
+  /** Collective write of this rank's rows of @p s, laid out by @p l: the
+   * values, in the layout's row order, are in @p dbuf or @p ibuf (by the
+   * series' memory type). */
+  void write_rows(Series const &s, RowLayout const &l, std::vector<double> const &dbuf,
+                  std::vector<int> const &ibuf) const {
+    auto const &runs = l.runs;
+    auto const n_rows = static_cast<hsize_t>(l.rows.size());
+    double const dummy = 0.;
+    void const *buf = l.rows.empty()                 ? static_cast<void const *>(&dummy)
+                      : s.mem_type == H5T_NATIVE_DOUBLE ? static_cast<void const *>(dbuf.data())
+                                                        : static_cast<void const *>(ibuf.data());
     hid_t fs = H5Dget_space(s.value);
     hsize_t const per_row = s.cols == 0 ? 1 : static_cast<hsize_t>(s.cols);
     hsize_t n_mem = std::max<hsize_t>(1, n_rows * per_row);
@@ -575,21 +608,7 @@ void H5mdFile::write_frame(System const &system) {
                               "write to a new file");
   }
   std::sort(all_ids.begin(), all_ids.end());
-  // this rank's locals in increasing row order, and the runs of consecutive rows
-  std::vector<std::pair<hsize_t, int>> rows; // (row, local index)
-  rows.reserve(static_cast<std::size_t>(n_local));
-  for (int i = 0; i < n_local; ++i) {
-    auto const it = std::lower_bound(all_ids.begin(), all_ids.end(), ps.id[i]);
-    rows.emplace_back(static_cast<hsize_t>(it - all_ids.begin()), i);
-  }
-  std::sort(rows.begin(), rows.end());
-  std::vector<std::array<hsize_t, 2>> runs;
-  for (auto const &[r, i] : rows) {
-    if (!runs.empty() && runs.back()[0] + runs.back()[1] == r)
-      ++runs.back()[1];
-    else
-      runs.push_back({r, 1});
-  }
+  auto const layout = row_layout(all_ids, local_ids.data(), n_local);
   if (m->n_srd >= 0 && n_srd != m->n_srd)
     throw Utils::RuntimeError("H5MD: the number of SRD particles changed from " + std::to_string(m->n_srd) +
                               " to " + std::to_string(n_srd) + " since the first frame of '" + m->path +
@@ -610,7 +629,7 @@ void H5mdFile::write_frame(System const &system) {
   for (auto const &s : m->series) {
     dbuf.clear();
     ibuf.clear();
-    for (auto const &[r, i] : rows) {
+    for (auto const &[r, i] : layout.rows) {
       (void)r;
       if (s.name == "position" || s.name == "image") {
         Utils::Vector3d p = ps.pos[i];
@@ -634,12 +653,7 @@ void H5mdFile::write_frame(System const &system) {
         ibuf.push_back(ps.id[i]);
       }
     }
-    void const *buf = s.mem_type == H5T_NATIVE_DOUBLE ? static_cast<void const *>(dbuf.data())
-                                                      : static_cast<void const *>(ibuf.data());
-    double dummy = 0.;
-    if (rows.empty())
-      buf = &dummy;
-    m->write_rows(s, runs, buf, static_cast<hsize_t>(rows.size()));
+    m->write_rows(s, layout, dbuf, ibuf);
   }
 #ifdef SRD
   if (!m->srd_series.empty())
@@ -668,26 +682,13 @@ void H5mdFile::write_srd_frame(System const &system) {
   auto const &f = *system.srd;
   auto all_ids = m->comm.allgatherv(f.id);
   std::sort(all_ids.begin(), all_ids.end());
-  std::vector<std::pair<hsize_t, int>> rows; // (row, local index)
-  rows.reserve(f.id.size());
-  for (int i = 0; i < f.size(); ++i) {
-    auto const it = std::lower_bound(all_ids.begin(), all_ids.end(), f.id[i]);
-    rows.emplace_back(static_cast<hsize_t>(it - all_ids.begin()), i);
-  }
-  std::sort(rows.begin(), rows.end());
-  std::vector<std::array<hsize_t, 2>> runs;
-  for (auto const &[r, i] : rows) {
-    if (!runs.empty() && runs.back()[0] + runs.back()[1] == r)
-      ++runs.back()[1];
-    else
-      runs.push_back({r, 1});
-  }
+  auto const layout = row_layout(all_ids, f.id.data(), f.size());
   std::vector<double> dbuf;
   std::vector<int> ibuf;
   for (auto const &s : m->srd_series) {
     dbuf.clear();
     ibuf.clear();
-    for (auto const &[r, i] : rows) {
+    for (auto const &[r, i] : layout.rows) {
       (void)r;
       if (s.name == "position" || s.name == "velocity") {
         auto const &x = s.name == "position" ? f.pos[i] : f.v[i];
@@ -699,12 +700,7 @@ void H5mdFile::write_srd_frame(System const &system) {
         ibuf.push_back(f.id[i]);
       }
     }
-    void const *buf = s.mem_type == H5T_NATIVE_DOUBLE ? static_cast<void const *>(dbuf.data())
-                                                      : static_cast<void const *>(ibuf.data());
-    double dummy = 0.;
-    if (rows.empty())
-      buf = &dummy;
-    m->write_rows(s, runs, buf, static_cast<hsize_t>(rows.size()));
+    m->write_rows(s, layout, dbuf, ibuf);
   }
 }
 #endif
