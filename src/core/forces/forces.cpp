@@ -49,10 +49,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   bool const dpd = sp.dpd;
   // the squared cutoff of each type pair (0 for pairs the list does not serve)
   int const nt = ia.n_types();
-  std::vector<double> cut2_table(static_cast<std::size_t>(nt) * nt);
-  for (int a = 0; a < nt; ++a)
-    for (int b = 0; b < nt; ++b)
-      cut2_table[a * nt + b] = ia.get(a, b).max_cut2;
+  auto const cut2_table = pair_cut2_table(ia);
   double const cut2 = nt > 0 ? cut2_table[0] : 0.;
   auto const *const typ = ps.type.data();
   auto soa = std::make_unique<PairBlockSoA>();
@@ -94,13 +91,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
       for (int s = 0; s < n; ++s) {
         int const i = bi[s], j = bj[s];
         B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
-        // ordered ids and the sign by id order, in bit arithmetic: the order
-        // of a pair's ids is random, a branch on it would be mispredicted
-        auto const a = static_cast<std::uint32_t>(pid[i]), c = static_cast<std::uint32_t>(pid[j]);
-        std::uint32_t const less = a < c, m = 0u - less; // all ones if a < c
-        lo[s] = (a & m) | (c & ~m);
-        hi[s] = (c & m) | (a & ~m);
-        sign[s] = static_cast<double>(static_cast<int>(2 * less) - 1);
+        order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
         if constexpr (mass)
           B.m[s] = pair_mass_factor(ps, i, j);
       }

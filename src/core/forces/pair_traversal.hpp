@@ -31,16 +31,33 @@ struct PairBlock {
   int size = 0;
 };
 
+/** The squared cutoff of each type pair, in a small dense table (a * n_types + b). */
+inline std::vector<double> pair_cut2_table(InteractionTable const &ia) {
+  int const nt = ia.n_types();
+  std::vector<double> cut2(static_cast<std::size_t>(nt) * nt);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < nt; ++b)
+      cut2[a * nt + b] = ia.get(a, b).max_cut2;
+  return cut2;
+}
+
+/** The ids of a pair in increasing order (@p lo, @p hi) and the sign of the
+ * pair noise (+1 if @p a < @p c), without a branch: the order of a listed
+ * pair's ids is random, a branch on it would be mispredicted. */
+inline void order_pair_ids(int a, int c, std::uint32_t &lo, std::uint32_t &hi, double &sign) {
+  auto const ua = static_cast<std::uint32_t>(a), uc = static_cast<std::uint32_t>(c);
+  std::uint32_t const less = ua < uc, m = 0u - less; // all ones if a < c
+  lo = (ua & m) | (uc & ~m);
+  hi = (uc & m) | (ua & ~m);
+  sign = static_cast<double>(static_cast<int>(2 * less) - 1);
+}
+
 /** Call fn(PairBlock const &) for every block of @p pairs within their cutoff. */
 template <class Fn>
 void for_each_pair_block(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
                          Fn &&fn) {
   int const nt = ia.n_types();
-  // the squared cutoff of each type pair, in a small dense table
-  std::vector<double> cut2(static_cast<std::size_t>(nt) * nt);
-  for (int a = 0; a < nt; ++a)
-    for (int b = 0; b < nt; ++b)
-      cut2[a * nt + b] = ia.get(a, b).max_cut2;
+  auto const cut2 = pair_cut2_table(ia);
   bool const one_type = nt == 1;
   double const cut2_0 = nt > 0 ? cut2[0] : 0.;
   auto const *const pos = ps.pos.data();
@@ -100,13 +117,8 @@ void draw_block_noise(PairBlock const &b, ParticleStore const &ps, [[maybe_unuse
   auto const *const pid = ps.id.data();
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
-  for (int s = 0; s < b.size; ++s) {
-    int const a = pid[b.i[s]], c = pid[b.j[s]];
-    bool const flip = !(a < c);
-    lo[s] = static_cast<std::uint32_t>(flip ? c : a);
-    hi[s] = static_cast<std::uint32_t>(flip ? a : c);
-    sign[s] = flip ? -1. : 1.;
-  }
+  for (int s = 0; s < b.size; ++s)
+    order_pair_ids(pid[b.i[s]], pid[b.j[s]], lo[s], hi[s], sign[s]);
   pair_noise_block(Utils::PairNoiseKey(n.seed, static_cast<std::uint64_t>(K::salt), n.counter), b.size,
                    lo.data(), hi.data(), sign.data(), xi.data());
 }
