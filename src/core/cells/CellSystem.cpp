@@ -27,6 +27,12 @@ bool shift_positive(Vector3d const &s) {
   return false;
 }
 
+/** A pair of local @p i and ghost @p j (>= n_local) of another rank's particle
+ * is computed by the rank owning the smaller id: true if it is not this one. */
+bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) {
+  return ps.ghost_owner[j - n_local] < 0 && ps.id[i] > ps.id[j];
+}
+
 } // namespace
 
 // Cells are at least `range` wide, so all partners of a local are in the 27
@@ -430,12 +436,9 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   m_pairs.resize(n_pairs);
   if (parallel()) {
     // a pair with another rank's particle is computed by the rank owning the smaller id
-    auto const *const owner = ps.ghost_owner.data();
     m_pairs.erase(std::remove_if(m_pairs.begin(), m_pairs.end(),
                                  [&](std::array<int, 2> const &pr) {
-                                   int const j = pr[1];
-                                   return j >= n_local && owner[j - n_local] < 0 &&
-                                          ps.id[pr[0]] > ps.id[j];
+                                   return pr[1] >= n_local && other_rank_computes(ps, pr[0], pr[1], n_local);
                                  }),
                   m_pairs.end());
   }
@@ -476,7 +479,6 @@ void CellSystem::build_wide_pairs(ParticleStore const &ps, BoxGeometry const &bo
     for (std::size_t k = 0; k < wide_all.size(); ++k) // locals first in each cell, ascending
       members[static_cast<std::size_t>(fill[cell[k]]++)] = wide_all[k];
     double const range2 = m_range_ll * m_range_ll;
-    auto const *const owner = ps.ghost_owner.data();
     for (std::size_t k = 0; k < m_wide_locals.size(); ++k) {
       int const i = m_wide_locals[k];
       int const ci = cell[k];
@@ -490,10 +492,9 @@ void CellSystem::build_wide_pairs(ParticleStore const &ps, BoxGeometry const &bo
               if (j < n_local) {
                 if (j <= i)
                   continue;
-              } else {
-                int const o = owner[j - n_local];
-                if (o >= 0 ? !shift_positive(ps.ghost_shift[j - n_local]) : ps.id[i] > ps.id[j])
-                  continue;
+              } else if (ps.ghost_owner[j - n_local] >= 0 ? !shift_positive(ps.ghost_shift[j - n_local])
+                                                          : other_rank_computes(ps, i, j, n_local)) {
+                continue; // an own image: positive shifts only; another rank's: see build_pairs
               }
               if ((ps.pos[i] - ps.pos[j]).norm2() < range2)
                 m_pairs.push_back({i, j});
