@@ -60,6 +60,15 @@ void bind_cell_system(py::class_<System> &cls) {
     s.set_large_range_mode(mode, flags);
   });
   cls.def("large_range_mode", &System::large_range_mode);
+  // the types given to set_large_range_mode (mode 1), as a sorted list
+  cls.def("large_range_types_requested", [](System &s) {
+    std::vector<int> types;
+    auto const &w = s.large_range_types_requested();
+    for (std::size_t t = 0; t < w.size(); ++t)
+      if (w[t])
+        types.push_back(static_cast<int>(t));
+    return types;
+  });
   // the large-range types and ranges (cutoff + skin) of the last list rebuild (not collective)
   cls.def("large_range_state", [](System &s) {
     std::vector<int> types;

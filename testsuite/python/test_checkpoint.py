@@ -279,8 +279,126 @@ def test_older_format_version_refused():
     blob = bytearray(s._core.get_checkpoint_state())
     before = bytes(blob)
     version_at = 8  # after the 8-byte magic
-    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 3
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 4
     blob[version_at:version_at + 4] = (2).to_bytes(4, "little")
-    with pytest.raises(RuntimeError, match="format version 2, this build reads version 3"):
+    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 4"):
         s._core.set_checkpoint_state(bytes(blob))
     assert s._core.get_checkpoint_state() == before
+
+
+def _as_version_3(blob):
+    """The format-3 blob of the same state: format 4 appended the requested
+    large-range types (i32 mode, u64 count, count bytes) to the global block.
+    Payload: features (u64 + bytes), layout (u64 + bytes), i32 rank count,
+    global block (u64 + bytes), particle blocks."""
+    import struct
+    import zlib
+    head = 8 + 4 + 8 + 4
+    p = bytes(blob[head:])
+    at = 0
+    for _ in range(2):  # features, layout
+        n, = struct.unpack_from("<Q", p, at)
+        at += 8 + n
+    at += 4
+    n_g, = struct.unpack_from("<Q", p, at)
+    g = p[at + 8:at + 8 + n_g]
+    rest = p[at + 8 + n_g:]
+    # the appended field: find the count from the end (mode i32, count u64, bytes)
+    for k in range(0, 256):
+        if len(g) >= 12 + k and struct.unpack_from("<Q", g, len(g) - k - 8)[0] == k:
+            mode, = struct.unpack_from("<i", g, len(g) - k - 12)
+            if mode in (-1, 0, 1):
+                g3 = g[:len(g) - k - 12]
+                break
+    else:
+        raise AssertionError("no large-range field at the end of the global block")
+    p3 = p[:at] + struct.pack("<Q", len(g3)) + g3 + rest
+    return (bytes(blob[:8]) + struct.pack("<IQI", 3, len(p3), zlib.crc32(p3)) + p3), mode
+
+
+needs_suspension = pytest.mark.skipif(
+    not marble.has_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS"),
+    reason="needs DPD, HAT, CONTACT, LUBRICATION, MASS")
+
+
+def _two_grid_suspension(mode):
+    import marble.suspensions as sus
+    s = marble.System(box_l=[9.0] * 3)
+    s.time_step = 1e-3
+    s.cell_system.skin = 0.4
+    s.cell_system.large_range_types = mode
+    sus.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=4, h_cut=1.0)
+    s.integrator.set_shardlow()
+    s.integrator.run(10)
+    return s
+
+
+@needs_suspension
+@pytest.mark.parametrize("mode", [[1], None, "auto"])
+def test_large_range_types_in_core_blob(mode):
+    """cell_system.large_range_types is part of the core blob (format 4): a
+    System restored from the bare blob (no Python-side state) has the same
+    setting and grids and continues the two-grid (or one-grid) suspension bit
+    for bit."""
+    s = _two_grid_suspension(mode)
+    grids = s.cell_system.get_state()["large_range_types"]
+    assert grids == ([] if mode is None else [1])
+    blob = s._core.get_checkpoint_state()
+    s2 = marble.System(box_l=[4.0] * 3)  # another box: the blob sets everything
+    s2._core.set_checkpoint_state(blob)
+    assert s2.cell_system.large_range_types == mode
+    assert s2._core.get_checkpoint_state() == blob
+    s.integrator.run(25)
+    s2.integrator.run(25)
+    assert s2.cell_system.get_state()["large_range_types"] == grids
+    a, b = s.part.all(), s2.part.all()
+    for k in ("id", "pos", "v", "f"):
+        assert np.asarray(getattr(a, k)).tobytes() == np.asarray(getattr(b, k)).tobytes(), k
+
+
+@needs_suspension
+def test_large_range_types_checkpoint_file(tmp_path):
+    """Through marble.checkpointing (the pickled System) the non-default
+    setting survives too, and the run continues bit for bit."""
+    s = _two_grid_suspension([1])
+    cp = Checkpoint(checkpoint_id="susp", checkpoint_path=str(tmp_path), namespace=dict(system=s))
+    cp.register("system")
+    cp.save()
+    s.integrator.run(25)
+    ns = {}
+    Checkpoint(checkpoint_id="susp", checkpoint_path=str(tmp_path), namespace=ns).load()
+    s2 = ns["system"]
+    assert s2.cell_system.large_range_types == [1]
+    assert "_large_range_types" not in s2.__dict__
+    s2.integrator.run(25)
+    assert s2.cell_system.get_state()["large_range_types"] == [1]
+    a, b = s.part.all(), s2.part.all()
+    for k in ("id", "pos", "v", "f"):
+        assert np.asarray(getattr(a, k)).tobytes() == np.asarray(getattr(b, k)).tobytes(), k
+
+
+def test_format_3_blob_loads_as_auto():
+    """A blob of format version 3 (no large-range types) still loads, with
+    large_range_types = "auto"; the state is otherwise the same."""
+    s, _, _ = make_scene("vv")
+    s.cell_system.large_range_types = None
+    blob = s._core.get_checkpoint_state()
+    old, mode = _as_version_3(blob)
+    assert mode == 0
+    s2 = marble.System(box_l=[4.0] * 3)
+    s2._core.set_checkpoint_state(old)
+    assert s2.cell_system.large_range_types == "auto"
+    s2.cell_system.large_range_types = None
+    assert s2._core.get_checkpoint_state() == blob
+
+
+def test_old_pickle_attribute_restores_the_setting():
+    """Pickles written before format 4 kept the setting as the System
+    attribute '_large_range_types'; it is still honoured."""
+    s, _, _ = make_scene("vv")
+    fn, args, state = s.__reduce__()
+    state["extra"]["_large_range_types"] = [2]
+    s2 = fn(*args)
+    s2.__setstate__(state)
+    assert s2.cell_system.large_range_types == [2]
+    assert "_large_range_types" not in s2.__dict__

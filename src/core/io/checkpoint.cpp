@@ -125,8 +125,10 @@ std::vector<char> wrap(char const *magic, std::vector<char> const &payload) {
   return o.buf;
 }
 
-/** Check the envelope; returns the payload's reader. */
-In unwrap(char const *magic, std::vector<char> const &blob, char const *what) {
+/** Check the envelope; returns the payload's reader (and the format version
+ * in @p version_out when given). */
+In unwrap(char const *magic, std::vector<char> const &blob, char const *what,
+          std::uint32_t *version_out = nullptr) {
   if (blob.size() < header_size)
     corrupt(std::string("only ") + std::to_string(blob.size()) + " bytes, too short for a " +
             what + " (truncated)");
@@ -136,13 +138,16 @@ In unwrap(char const *magic, std::vector<char> const &blob, char const *what) {
   auto const version = h.pod<std::uint32_t>();
   auto const size = h.pod<std::uint64_t>();
   auto const crc = h.pod<std::uint32_t>();
-  if (version != Checkpoint::format_version)
-    corrupt("format version " + std::to_string(version) + ", this build reads version " +
+  if (version < Checkpoint::oldest_readable_version || version > Checkpoint::format_version)
+    corrupt("format version " + std::to_string(version) + ", this build reads versions " +
+            std::to_string(Checkpoint::oldest_readable_version) + " to " +
             std::to_string(Checkpoint::format_version) +
             " (written by another Marble version; restart it with the version that wrote it)");
   if (size != blob.size() - header_size)
     corrupt("the header announces " + std::to_string(size) + " bytes of data, found " +
             std::to_string(blob.size() - header_size) + " (truncated or corrupt)");
+  if (version_out)
+    *version_out = version;
   char const *payload = blob.data() + header_size;
   if (Checkpoint::crc32(payload, blob.size() - header_size) != crc)
     corrupt("checksum mismatch (the data is corrupt)");
@@ -237,6 +242,10 @@ struct CheckpointAccess {
     std::vector<char> large;
     std::vector<Wall> walls;
     std::int32_t wall_next_id = 0;
+    // cell_system.large_range_types as requested (System::set_large_range_mode):
+    // -1 auto (also for blobs of format version 3, which lack it), 0 off, 1 the flagged types
+    std::int32_t large_range_mode = -1;
+    std::vector<char> large_range_types;
   };
 
   static void write_global(Out &o, System const &s) {
@@ -263,9 +272,11 @@ struct CheckpointAccess {
     o.vec(large);
     o.structs(s.m_constraints.m_walls, [](Out &a, Wall const &w) { wall_fields(a, w); });
     o.pod(static_cast<std::int32_t>(s.m_constraints.m_next_id));
+    o.pod(static_cast<std::int32_t>(s.m_large_range_mode)); // format version 4
+    o.vec(s.m_large_range_types);
   }
 
-  static Global read_global(In &in) {
+  static Global read_global(In &in, std::uint32_t version) {
     Global g;
     g.box.set_length(in.pod<Utils::Vector3d>());
     for (int d = 0; d < 3; ++d) {
@@ -289,6 +300,13 @@ struct CheckpointAccess {
     g.large = in.vec<char>();
     g.walls = in.structs<Wall>([](In &a, Wall &w) { wall_fields(a, w); });
     g.wall_next_id = in.pod<std::int32_t>();
+    if (version >= 4) {
+      g.large_range_mode = in.pod<std::int32_t>();
+      g.large_range_types = in.vec<char>();
+      if (g.large_range_mode < -1 || g.large_range_mode > 1 ||
+          g.large_range_types.size() > static_cast<std::size_t>(InteractionTable::max_type))
+        corrupt("bad large-range types of the cell system");
+    }
     auto square = [](std::int32_t n) { return static_cast<std::size_t>(n) * static_cast<std::size_t>(n); };
     if (g.n_types < 0 || g.n_types > InteractionTable::max_type || g.ia.size() != square(g.n_types) ||
         g.large.size() != static_cast<std::size_t>(g.n_types))
@@ -452,7 +470,8 @@ struct CheckpointAccess {
     ParticleBlock b;
     std::string error;
     try {
-      In in = unwrap(system_magic, blob, "system checkpoint");
+      std::uint32_t version = 0;
+      In in = unwrap(system_magic, blob, "system checkpoint", &version);
       auto const features = in.str();
       if (features != MARBLE_FEATURES_ACTIVE)
         throw Utils::RuntimeError("the checkpoint was written by a build with the features [" +
@@ -471,7 +490,7 @@ struct CheckpointAccess {
       if (n_ranks < 1 || static_cast<std::size_t>(n_ranks) != blocks.size())
         corrupt("bad number of particle blocks");
       In gin(gbuf.data(), gbuf.size());
-      g = read_global(gin);
+      g = read_global(gin, version);
       if (!gin.done())
         corrupt("unexpected data after the global state");
       if (n_ranks == comm.size()) {
@@ -513,6 +532,8 @@ struct CheckpointAccess {
     s.update_thermostat_prefactors();
     s.m_constraints.m_walls = g.walls;
     s.m_constraints.m_next_id = g.wall_next_id;
+    s.m_large_range_mode = g.large_range_mode; // before the lists are rebuilt below
+    s.m_large_range_types = g.large_range_types;
 #ifdef MARBLE
     s.m_colloids.set_types(s.m_ia.colloid_types());
     // with MPI, every rank keeps a copy of each colloid (cells/CellSystem.cpp)

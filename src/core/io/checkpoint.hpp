@@ -6,7 +6,8 @@
 // build's feature list and a layout signature (sizes of the parameter structs,
 // which are stored as raw bytes), then the global state (box, time step, time,
 // step counter, integrator, thermostat, interaction table, colloid couplings,
-// walls, force/list validity) and one particle block per MPI rank, in rank
+// walls, force/list validity, the requested large-range types of the cell
+// system) and one particle block per MPI rank, in rank
 // order: every local particle with every property, in the stored (cell-sorted)
 // order, including the forces/torques of the last step and pos_at_rebuild.
 //
@@ -28,7 +29,11 @@ struct CheckpointAccess;
 
 namespace Checkpoint {
 
-inline constexpr std::uint32_t format_version = 3; // 2: interactions by kernel field lists; 3: Langevin/Brownian thermostats, per-particle gamma
+// 2: interactions by kernel field lists; 3: Langevin/Brownian thermostats,
+// per-particle gamma; 4: the requested large-range types of the cell system
+// (cell_system.large_range_types). Blobs of version 3 still load (as "auto").
+inline constexpr std::uint32_t format_version = 4;
+inline constexpr std::uint32_t oldest_readable_version = 3;
 
 /** CRC-32 (IEEE 802.3, as zlib.crc32) of @p n bytes. */
 std::uint32_t crc32(char const *data, std::size_t n, std::uint32_t crc = 0);

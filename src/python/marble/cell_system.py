@@ -80,8 +80,15 @@ class CellSystem:
         differs. The choice made at the last list rebuild (e.g. after
         ``integrator.run(0)``) is in :meth:`get_state`: ``large_range_types``
         and the pair ranges (cutoff + skin) ``pair_range_small`` (solvent
-        grid), ``pair_range_large`` and ``pair_range_large_small``."""
-        return self._system.__dict__.get("_large_range_types", "auto")
+        grid), ``pair_range_large`` and ``pair_range_large_small``. The
+        setting is part of the core's checkpoint (doc/io.md)."""
+        core = self._system._core
+        mode = core.large_range_mode()
+        if mode < 0:
+            return "auto"
+        if mode == 0:
+            return None
+        return list(core.large_range_types_requested())
 
     @large_range_types.setter
     def large_range_types(self, value):
@@ -91,10 +98,8 @@ class CellSystem:
                 raise ValueError(f"parameter 'large_range_types' must be 'auto', None or a list "
                                  f"of types, got {value!r}")
             core.set_large_range_mode(-1, [])
-            stored = "auto"
         elif value is None:
             core.set_large_range_mode(0, [])
-            stored = None
         else:
             try:
                 types = [int(t) for t in value]
@@ -104,8 +109,6 @@ class CellSystem:
             if any(isinstance(t, bool) or int(t) != t for t in value):
                 raise ValueError(f"parameter 'large_range_types' must hold integer types, got {value!r}")
             core.set_large_range_mode(1, types)
-            stored = sorted(set(types))
-        self._system.__dict__["_large_range_types"] = stored
 
     def get_state(self):
         """Cell-system parameters and counters (a dict)."""

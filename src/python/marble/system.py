@@ -78,8 +78,10 @@ class System:
         for acc in state["accumulators"]:
             self.auto_update_accumulators._restore(acc)
         self.__dict__.update(state["extra"])
-        if state["extra"].get("_large_range_types", "auto") != "auto":  # cell-grid split (cell_system.py)
-            self.cell_system.large_range_types = state["extra"]["_large_range_types"]
+        if "_large_range_types" in state["extra"]:  # pickles of before checkpoint format 4
+            self.__dict__.pop("_large_range_types")
+            if state["extra"]["_large_range_types"] != "auto":
+                self.cell_system.large_range_types = state["extra"]["_large_range_types"]
         if "srd" in state:  # SRD
             from .srd import SRDFluid
             self.srd = SRDFluid(**state["srd"][0])
