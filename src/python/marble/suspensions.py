@@ -172,9 +172,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         raise ValueError("setup_suspension needs an empty system (it places all particles)")
     L = np.asarray(system.box_l, float)
     V = float(np.prod(L))
-    if np.min(L) <= 2 * (2 * R + max(h_cut, r_cut, delta)):
-        raise ValueError(f"the box (smallest edge {np.min(L)}) must exceed twice the colloid pair "
-                         f"range 2R + cutoff = {2 * R + max(h_cut, r_cut)}")
+    if np.min(L) <= 2 * R + max(h_cut, r_cut, delta):
+        # a colloid would interact with its own periodic image (boxes smaller than
+        # twice the colloid pair range are fine: several images of a pair interact,
+        # which the pair list handles; doc/architecture.md, "Two cell grids")
+        raise ValueError(f"the box (smallest edge {np.min(L)}) must exceed the colloid pair "
+                         f"range 2R + cutoff = {2 * R + max(h_cut, r_cut, delta)}")
     rng = np.random.default_rng(int(seed))
     v_col = 4.0 / 3.0 * math.pi * R ** 3
     if positions is not None:

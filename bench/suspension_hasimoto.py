@@ -1,0 +1,121 @@
+"""One core-modified colloid at volume fraction 0.05 against Hasimoto (issue 13,
+doc/suspensions.md section 9).
+
+Seed 004's solvent and colloid (R = 1, rho = 3, kT = 0.1, gamma = 4.5,
+a_ss = 25 kT, the mean-field colloid-solvent hat and the colloid-solvent DPD
+on the gap with the equal-volume surface cutoff 0.26, colloid mass 12.57), one
+colloid in a periodic cube of edge L = (4 pi R^3 / (3 phi))^(1/3) = 4.373, so
+its volume fraction is 0.05; Shardlow, dt = 0.01.
+
+- ``--part eta``: the solvent's viscosity by reverse Poiseuille (box 7 x 7 x 10,
+  g = 0.02, the same solvent settings and dt).
+- ``--part drag``: D by drag (marble.diffusion.measure_drag: a constant force
+  on the colloid, the opposite force spread over the solvent; D = kT v / F),
+  with the error the larger of the blocking error and sqrt(2 D / T).
+- Compared with Hasimoto's D(L) = kT/(6 pi eta) [1/R_h - 2.837297/L +
+  (4 pi/3) R_h^2/L^3] (marble.theory.hasimoto_D) for R_h = R and
+  R_h = R + r'_c/2, and the R_h that fits (theory.hydrodynamic_radius_from_D).
+
+    ./pymarble bench/suspension_hasimoto.py --part eta --time 1500
+    ./pymarble bench/suspension_hasimoto.py --part drag --time 3000 --seed 1
+    ./pymarble bench/suspension_hasimoto.py --part compare --eta 0.31 0.01 --D 0.007 0.0002
+"""
+import argparse
+import json
+import math
+import os
+import time
+
+import numpy as np
+
+import marble
+import marble.suspensions as sus
+from marble import theory
+
+parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+parser.add_argument("--part", choices=["eta", "drag", "compare"], required=True)
+parser.add_argument("--time", type=float, default=1000.0, help="production time")
+parser.add_argument("--dt", type=float, default=0.01)
+parser.add_argument("--force", type=float, default=0.5, help="drag force on the colloid")
+parser.add_argument("--g", type=float, default=0.02, help="reverse Poiseuille body force")
+parser.add_argument("--seed", type=int, default=1)
+parser.add_argument("--eta", type=float, nargs=2, help="compare: eta and its error")
+parser.add_argument("--D", type=float, nargs=2, help="compare: D and its error")
+parser.add_argument("--json", help="append the result (a JSON line) to this file")
+args = parser.parse_args()
+
+marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
+R, KT, GAMMA, PHI = 1.0, 0.1, 4.5, 0.05
+L = (4.0 * math.pi * R ** 3 / (3.0 * PHI)) ** (1.0 / 3.0)
+
+
+def colloid_box():
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = args.dt
+    s.cell_system.skin = 0.4
+    info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
+                                positions=[[L / 2] * 3])
+    s.integrator.set_shardlow()
+    return s, info
+
+
+def solvent_box():
+    box = np.array([7.0, 7.0, 10.0])
+    s = marble.System(box_l=box)
+    s.time_step = args.dt
+    s.cell_system.skin = 0.4
+    info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
+                                positions=[0.5 * box])
+    s.part.by_ids(info["colloid_ids"]).remove()
+    s.non_bonded_inter.reset()
+    s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, r_cut=1.0)
+    s.integrator.set_shardlow()
+    return s
+
+
+def zero_momentum(s):
+    p = s.part.all()
+    v, m = np.asarray(p.v), np.asarray(p.mass)
+    p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
+
+
+t0 = time.process_time()
+out = dict(part=args.part, dt=args.dt, seed=args.seed, time=args.time, L=L)
+if args.part == "eta":
+    from marble.viscosity import reverse_poiseuille
+    s = solvent_box()
+    zero_momentum(s)
+    s.integrator.run(int(round(20.0 / args.dt)))
+    res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5)
+    out.update(eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max, g=args.g)
+    print(f"eta = {res.eta:.4f} +/- {res.eta_err:.4f} (kT {res.kT:.4f}, v_max {res.v_max:.3f})")
+elif args.part == "drag":
+    from marble.diffusion import measure_drag
+    s, info = colloid_box()
+    zero_momentum(s)
+    s.integrator.run(int(round(20.0 / args.dt)))
+    res = measure_drag(s, info["colloid_ids"], force=[args.force, 0, 0],
+                       steps=int(round(args.time / args.dt)), equilibration_steps=int(round(20 / args.dt)),
+                       delta_N=10, kT=KT)
+    err = max(res.D_err, KT * math.sqrt(2 * max(res.D, 0) / args.time) / args.force)
+    out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force,
+               n_solvent=info["n_solvent"])
+    print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "
+          f"(blocking {res.D_err:.5f}), v = {res.v:.4f}")
+else:
+    eta, eta_err = args.eta
+    D, D_err = args.D
+    rp = sus.surface_cutoff(R)
+    for name, Rh in (("R", R), ("R + r'_c/2", R + rp / 2), ("R + r'_c", R + rp)):
+        Dh = theory.hasimoto_D(eta, Rh, L, kT=KT)
+        print(f"Hasimoto with R_h = {name} = {Rh:.3f}: D = {Dh:.5f}; measured/Hasimoto = "
+              f"{D / Dh:.3f} +/- {D / Dh * math.hypot(D_err / D, eta_err / eta):.3f}")
+    Rh, Rh_err = theory.hydrodynamic_radius_from_D(D, eta, L, D_err=D_err)
+    print(f"fitted R_h = {Rh:.3f} +/- {Rh_err:.3f} (D error only; eta's adds "
+          f"{abs(theory.hydrodynamic_radius_from_D(D * (1 + eta_err / eta), eta, L)[0] - Rh):.3f})")
+out["cpu_s"] = time.process_time() - t0
+print(f"CPU {out['cpu_s']:.0f} s")
+if args.json:
+    with open(args.json, "a") as f:
+        f.write(json.dumps(out) + "\n")
