@@ -106,14 +106,22 @@ elif args.part == "drag":
 else:
     eta, eta_err = args.eta
     D, D_err = args.D
+    rel = math.hypot(D_err / D, eta_err / eta)
     rp = sus.surface_cutoff(R)
-    for name, Rh in (("R", R), ("R + r'_c/2", R + rp / 2), ("R + r'_c", R + rp)):
-        Dh = theory.hasimoto_D(eta, Rh, L, kT=KT)
-        print(f"Hasimoto with R_h = {name} = {Rh:.3f}: D = {Dh:.5f}; measured/Hasimoto = "
-              f"{D / Dh:.3f} +/- {D / Dh * math.hypot(D_err / D, eta_err / eta):.3f}")
-    Rh, Rh_err = theory.hydrodynamic_radius_from_D(D, eta, L, D_err=D_err)
-    print(f"fitted R_h = {Rh:.3f} +/- {Rh_err:.3f} (D error only; eta's adds "
-          f"{abs(theory.hydrodynamic_radius_from_D(D * (1 + eta_err / eta), eta, L)[0] - Rh):.3f})")
+    for bc in ("stick", "slip"):
+        for name, Rh in (("R", R), ("R + r'_c/2", R + rp / 2)):
+            Dh = theory.hasimoto_D(eta, Rh, L, kT=KT, boundary=bc)
+            print(f"Hasimoto {bc:5s} with R_h = {name} = {Rh:.3f}: D = {Dh:.5f}; measured/Hasimoto = "
+                  f"{D / Dh:.3f} +/- {D / Dh * rel:.3f}")
+    Rh, _ = theory.hydrodynamic_radius_from_D(D, eta, L, kT=KT)
+    Rh_hi, _ = theory.hydrodynamic_radius_from_D(D * (1 - rel), eta, L, kT=KT)
+    print(f"stick radius that fits: R_h = {Rh:.3f} +/- {abs(Rh_hi - Rh):.3f}")
+    # slip: D = kT/(4 pi eta R) - 2.837297 kT/(6 pi eta L)
+    def slip_radius(d):
+        return KT / (4 * math.pi * eta * (d + theory.HASIMOTO_XI * KT / (6 * math.pi * eta * L)))
+    Rs = slip_radius(D)
+    print(f"perfect-slip radius that fits: R_s = {Rs:.3f} +/- {abs(slip_radius(D * (1 - rel)) - Rs):.3f}")
+    out.update(eta=eta, eta_err=eta_err, D=D, D_err=D_err, R_stick=Rh, R_slip=Rs)
 out["cpu_s"] = time.process_time() - t0
 print(f"CPU {out['cpu_s']:.0f} s")
 if args.json:
