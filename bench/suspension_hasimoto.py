@@ -39,6 +39,9 @@ parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--force", type=float, default=0.5, help="drag force on the colloid")
 parser.add_argument("--g", type=float, default=0.02, help="reverse Poiseuille body force")
 parser.add_argument("--seed", type=int, default=1)
+parser.add_argument("--trans-gamma", type=float, default=0.0,
+                    help="drag: add TRANS_DPD friction (tangential) on the colloid-solvent pair "
+                         "(not in seed 004; tests whether the slip comes from the central friction)")
 parser.add_argument("--eta", type=float, nargs=2, help="compare: eta and its error")
 parser.add_argument("--D", type=float, nargs=2, help="compare: D and its error")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
@@ -55,6 +58,11 @@ def colloid_box():
     s.cell_system.skin = 0.4
     info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
                                 positions=[[L / 2] * 3])
+    if args.trans_gamma > 0:
+        marble.assert_features("TRANS_DPD")
+        s.non_bonded_inter[1, 0].dpd.set_params(
+            weight_function=1, gamma=GAMMA, r_cut=info["cutoff_surface"], offset=R,
+            trans_weight_function=1, trans_gamma=args.trans_gamma, trans_r_cut=info["cutoff_surface"])
     s.integrator.set_shardlow()
     return s, info
 
@@ -99,7 +107,7 @@ elif args.part == "drag":
                        steps=int(round(args.time / args.dt)), equilibration_steps=int(round(20 / args.dt)),
                        delta_N=10, kT=KT)
     err = max(res.D_err, KT * math.sqrt(2 * max(res.D, 0) / args.time) / args.force)
-    out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force,
+    out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force, trans_gamma=args.trans_gamma,
                n_solvent=info["n_solvent"])
     print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "
           f"(blocking {res.D_err:.5f}), v = {res.v:.4f}")
