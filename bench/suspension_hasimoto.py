@@ -18,7 +18,9 @@ its volume fraction is 0.05; Shardlow, dt = 0.01.
 
     ./pymarble bench/suspension_hasimoto.py --part eta --time 1500
     ./pymarble bench/suspension_hasimoto.py --part drag --time 3000 --seed 1
-    ./pymarble bench/suspension_hasimoto.py --part compare --eta 0.31 0.01 --D 0.007 0.0002
+    ./pymarble bench/suspension_hasimoto.py --part compare --eta 0.3227 0.0069 --D 0.0156 0.0002
+
+The runs of doc/suspensions.md section 7b are in bench/results/suspension_hasimoto.jsonl.
 """
 import argparse
 import json
