@@ -139,7 +139,7 @@ def _bisect(f, lo, hi, tol=1e-13, maxiter=300):
     return 0.5 * (lo + hi)
 
 
-def _fit_1d(model, D, D_err, L, lo, hi, name):
+def _fit_1d(model, D, D_err, L, lo, hi, name, hint=""):
     """Root of sum_i w_i (model(p, L_i) - D_i) dmodel/dp = 0 over p in (lo, hi):
     the exact solution of model(p, L) = D for one measurement, weighted least
     squares for several. Error from the linearised model."""
@@ -174,7 +174,7 @@ def _fit_1d(model, D, D_err, L, lo, hi, name):
             break
     if p is None:
         raise ValueError(f"no {name} in ({lo}, {hi}) reproduces D = {D}: D is outside the "
-                         "range the model can give")
+                         "range the model can give" + hint)
     J = deriv(p)
     if D_err is None:
         err = np.nan if D.size == 1 else np.sqrt(np.sum((model(p, L) - D) ** 2) / (D.size - 1)
@@ -196,7 +196,8 @@ def slip_length_from_D(D, eta, R, L=np.inf, D_err=None, kT=1.0, b_max=1e6):
     def model(b, L_):
         return diffusion_coefficient(eta, R, L_, b, kT)
 
-    return _fit_1d(model, D, D_err, L, -R / 3.0, b_max, "slip length")
+    return _fit_1d(model, D, D_err, L, -R / 3.0, b_max, "slip length",
+                   f" (the model used eta = {eta}, R = {R}, kT = {kT}: pass the run's kT)")
 
 
 def hydrodynamic_radius_from_D(D, eta, L=np.inf, D_err=None, kT=1.0):
@@ -209,7 +210,8 @@ def hydrodynamic_radius_from_D(D, eta, L=np.inf, D_err=None, kT=1.0):
     def model(R_, L_):
         return diffusion_coefficient(eta, R_, L_, 0.0, kT)
 
-    return _fit_1d(model, D, D_err, L, 0.0, hi, "hydrodynamic radius")
+    return _fit_1d(model, D, D_err, L, 0.0, hi, "hydrodynamic radius",
+                   f" (the model used eta = {eta}, kT = {kT}: pass the run's kT)")
 
 
 # --- suspensions (doc/suspensions.md, reference.md section 7) ---------------
