@@ -345,7 +345,7 @@ def kinetic_friction(radius, M, density, rule="stochastic", kT=1.0, m=1.0, chi=0
     003's Enskog eqs. 5, 6 for q = 1): (z0 (1 + K q), z0 K q/chi);
     bounce_back (K = 1): (z0 (1 + q), z0 q/chi); stochastic (diffuse
     re-emission): (z0 (1/2 + pi/8 + q/2), z0 q/(2 chi)).
-    a = 2, M = 125, gamma = 5, stochastic, pair: (1.474, 1.306)."""
+    a = 2, M = 125, gamma = 5, stochastic, pair: (1.473, 1.306)."""
     if coupling not in ("pair", "fixed_surface", "seed003"):
         raise ValueError(f"parameter 'coupling' must be one of 'pair', 'fixed_surface', 'seed003', got {coupling!r}")
     mu_n = m * M / (m + M)
