@@ -257,6 +257,7 @@ def scene_srd_colloid(collisions=200, rule="srd", **kw):
     col = srd.add_colloid(s, pos=[L / 2 - 0.3, L / 2, L / 2], radius=1.5, mass=60.0, type=1,
                           rule="stochastic", v=(0.3, 0.2, 0.1))
     col.omega_lab = [0.0, 0.0, 0.2]
+    col.ext_force = [6.0, 0.0, 0.0]  # drifts ~1.3 along x: crosses the domain face x = 4
     s.integrator.run(2 * collisions)  # tau = 2 time steps
     return s, _srd_state(s, col)
 

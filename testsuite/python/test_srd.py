@@ -232,6 +232,36 @@ def test_checkpoint_bit_exact_continuation():
     assert np.array_equal(rc.pos, c.pos)
 
 
+@pytest.mark.skipif(not marble.has_features("ROTATION", "MASS"), reason="needs ROTATION, MASS")
+@pytest.mark.parametrize("rule", ["bounce_back", "slip"])
+def test_pair_coupling_conserves_energy(rule):
+    """The deterministic rules act on the pair (particle, colloid) with its
+    effective masses (coupling "pair", doc/srd.md "Finite colloid mass"): the
+    total kinetic energy (fluid, colloid V and Omega) is conserved to
+    round-off through streaming and collisions (rule srd, no thermostat). In
+    the frame of an infinitely heavy surface ("seed003") the colloid's recoil
+    adds energy at every bounce."""
+    drift = {}
+    for coupling in ("pair", "seed003"):
+        s = make(L=8.0, dt=0.025)
+        s.cell_system.skin = 0.5
+        c = srd.add_colloid(s, pos=[4.0, 4.0, 4.0], radius=1.5, mass=10.0, type=1, rule=rule,
+                            v=(0.3, -0.1, 0.2), coupling=coupling)
+        c.omega_lab = [0.2, -0.3, 0.1]
+        I = 0.4 * 10.0 * 1.5 ** 2
+
+        def energy():
+            return (0.5 * np.sum(s.srd.v ** 2) + 0.5 * 10.0 * np.sum(np.asarray(c.v) ** 2)
+                    + 0.5 * I * np.sum(np.asarray(c.omega_lab) ** 2))
+        E0 = energy()
+        s.integrator.run(200)
+        assert np.abs(s.srd.momentum_to_colloids()).max() > 1.0  # the colloid was hit
+        drift[coupling] = abs(energy() - E0) / E0
+    print(drift)
+    assert drift["pair"] < 1e-12, drift
+    assert drift["seed003"] > 1e-6, drift
+
+
 @pytest.mark.parametrize("rule", ["stochastic", "bounce_back", "slip"])
 def test_walls_confine_and_conserve_momentum(rule):
     s = make(L=6.0, wall_axis=1, wall_rule=rule, wall_velocity_lo=[0.3, 0, 0.1],

@@ -41,6 +41,13 @@ struct ColloidRef {
   double M, I;
 };
 static_assert(std::is_trivially_copyable_v<ColloidRef>);
+// An SRD particle found inside colloid j (index into the colloid list) after
+// streaming: its position relative to the centre and its velocity.
+struct Hit {
+  int pid, j, rank, index, type;
+  Vector3d d, v;
+};
+static_assert(std::is_trivially_copyable_v<Hit>);
 } // namespace
 
 void Fluid::check_geometry(BoxGeometry const &box, double dt) {
@@ -307,9 +314,8 @@ void Fluid::stream(System &s, double dt) {
     return;
   }
   auto &ps = s.particles();
-  std::vector<Vector3d> dP(cols.size()), dL(cols.size());
   std::uint64_t const step = s.step();
-  double const sig = std::sqrt(m_p.kT / m_p.mass);
+  int const me = s.comm().rank();
   double r_max = 0.;
   std::vector<double> Rx(cols.size());
   for (std::size_t j = 0; j < cols.size(); ++j) {
@@ -321,65 +327,20 @@ void Fluid::stream(System &s, double dt) {
   if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
     r_max = INFINITY;
   std::uint64_t const stamp = m_n_streams + 1;
-  // the impulses of this step, summed in the order of the particle ids
-  // below (the same sums whichever search found the particles)
-  struct Impulse {
-    int pid, j;
-    Vector3d dp, dl;
-  };
-  std::vector<Impulse> impulses;
-  // the boundary rule of colloid j for particle i (streamed by this step):
-  // true if it was inside and was put back on the surface
-  auto bounce = [&](int i, std::size_t j) {
+  // 1. Detection: the SRD particles found inside a colloid after streaming
+  // (each at most once per step, off the first colloid in id order that
+  // holds it). The colloids do not move during the streaming step, so the
+  // detection does not depend on the order in which the bounces are applied.
+  std::vector<Hit> hits;
+  auto inside = [&](int i, std::size_t j) {
     auto const &c = cols[j];
     auto const b = boundary(c.type, type[i]);
     if (!b.active)
       return false;
-    Vector3d d = box.get_mi_vector(pos[i], c.R);
+    Vector3d const d = box.get_mi_vector(pos[i], c.R);
     if (d.norm2() >= b.radius * b.radius)
       return false;
-    // seed 003: half a step back, onto the surface along the shortest vector
-    d -= (0.5 * dt) * v[i];
-    double const r = d.norm();
-    Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
-    Vector3d const arm = b.radius * nrm; // r* - R
-    Vector3d const vloc = c.V + cross(c.W, arm);
-    Vector3d vn;
-    if (b.rule == BoundaryRule::stochastic) {
-      // eqs. (1), (2) about the surface velocity: flux-weighted normal
-      // (Rayleigh) and Maxwellian tangential components
-      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-      auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
-                                        static_cast<std::uint64_t>(id[i]), 1);
-      double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(u[0])));
-      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-      t1 *= 1. / t1.norm();
-      Vector3d const t2 = cross(nrm, t1);
-      vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
-    } else if (b.rule == BoundaryRule::bounce_back) {
-      vn = 2. * vloc - v[i];
-    } else if (b.rule == BoundaryRule::rough) {
-      // mean tangential transfer of a rough-sphere collision (fraction 2K
-      // of the relative tangential velocity reversed); the rest redrawn
-      // from the Maxwellian so the rule keeps detailed balance
-      constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
-      double const c = 1. - 2. * K, s_noise = std::sqrt(1. - c * c) * sig;
-      auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 0);
-      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-      t1 *= 1. / t1.norm();
-      Vector3d const t2 = cross(nrm, t1);
-      Vector3d const vr = v[i] - vloc;
-      Vector3d const vr_n = (vr * nrm) * nrm;
-      vn = vloc - vr_n + c * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
-    } else { // slip: specular reflection in the frame of the surface
-      double const vr = (v[i] - vloc) * nrm;
-      vn = vr < 0. ? v[i] - (2. * vr) * nrm : v[i];
-    }
-    Vector3d const dp = m_p.mass * (v[i] - vn);
-    impulses.push_back({id[i], static_cast<int>(j), dp, cross(arm, dp)});
-    v[i] = vn;
-    pos[i] = c.R + arm + (0.5 * dt) * vn;
-    fold(pos[i], L);
+    hits.push_back({id[i], static_cast<int>(j), me, i, type[i], d, v[i]});
     return true;
   };
   bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == n;
@@ -391,32 +352,28 @@ void Fluid::stream(System &s, double dt) {
       pos[i] += dt_free * v[i];
       fold(pos[i], L);
     }
-    std::vector<int> hits;
     std::vector<int> cand;
     for (std::size_t j = 0; j < cols.size(); ++j) {
       cand.clear();
       near(cols[j].R, r_search, L, cand);
       for (int i : cand)
-        if (m_hit[i] != stamp && bounce(i, j)) {
+        if (m_hit[i] != stamp && inside(i, j))
           m_hit[i] = stamp;
-          hits.push_back(i);
-        }
     }
     for (std::size_t k = 0; k < m_loose.size(); ++k) {
       int const i = m_loose[k];
       if (m_hit[i] == stamp)
         continue;
       for (std::size_t j = 0; j < cols.size(); ++j)
-        if (bounce(i, j)) {
+        if (inside(i, j)) {
           m_hit[i] = stamp;
-          hits.push_back(i);
           break;
         }
     }
-    for (int i : hits) // their displacement is no longer bounded by m_disp
-      if (!m_is_loose[i]) {
-        m_is_loose[i] = 1;
-        m_loose.push_back(i);
+    for (auto const &h : hits) // their displacement is no longer bounded by m_disp
+      if (!m_is_loose[h.index]) {
+        m_is_loose[h.index] = 1;
+        m_loose.push_back(h.index);
       }
   } else {
     for (int i = 0; i < n; ++i) {
@@ -430,39 +387,129 @@ void Fluid::stream(System &s, double dt) {
         dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
         if (std::abs(dx) >= r_max)
           continue;
-        if (bounce(i, j))
+        if (inside(i, j))
           break;
       }
     }
   }
-  std::sort(impulses.begin(), impulses.end(), [](Impulse const &a, Impulse const &b) { return a.pid < b.pid; });
-  for (auto const &h : impulses) {
-    dP[h.j] += h.dp;
-    dL[h.j] += h.dl;
-  }
-  if (s.comm().parallel()) { // impulses from every rank's SRD particles
-    std::vector<double> buf(6 * cols.size());
-    for (std::size_t j = 0; j < cols.size(); ++j)
-      for (int d = 0; d < 3; ++d)
-        buf[6 * j + d] = dP[j][d], buf[6 * j + 3 + d] = dL[j][d];
-    s.comm().sum_inplace(buf.data(), static_cast<int>(buf.size()));
-    for (std::size_t j = 0; j < cols.size(); ++j)
-      for (int d = 0; d < 3; ++d)
-        dP[j][d] = buf[6 * j + d], dL[j][d] = buf[6 * j + 3 + d];
+  // 2. The bounces of all ranks, in the order of the SRD ids: every rank
+  // applies them in this order to its copy of the colloids (bit-identical
+  // on every rank, whichever rank holds the particles and whichever search
+  // found them) and updates its own particles.
+  if (s.comm().parallel())
+    hits = s.comm().allgatherv(hits);
+  std::sort(hits.begin(), hits.end(), [](Hit const &a, Hit const &b) { return a.pid < b.pid; });
+  std::vector<Vector3d> V(cols.size()), W(cols.size()), dP(cols.size()), dL(cols.size()), dP_late(cols.size()),
+      dL_late(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    V[j] = cols[j].V, W[j] = cols[j].W;
+  double const m = m_p.mass, kT = m_p.kT;
+  for (auto const &h : hits) {
+    auto const &c = cols[h.j];
+    auto const b = boundary(c.type, h.type);
+    bool const pair = b.coupling == Coupling::pair;
+    Vector3d const &v0 = h.v;
+    // seed 003: half a step back, onto the surface along the shortest vector
+    // (pair: in the frame of the colloid, which moved by V dt in this step)
+    Vector3d const d = h.d - (0.5 * dt) * (pair ? v0 - c.V : v0);
+    double const r = d.norm();
+    Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
+    Vector3d const arm = b.radius * nrm; // r* - R
+    Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+    t1 *= 1. / t1.norm();
+    Vector3d const t2 = cross(nrm, t1);
+    auto const pid = static_cast<std::uint64_t>(h.pid);
+    Vector3d J, vn; // impulse handed to the colloid, new velocity of the particle
+    if (pair) {
+      // the rule acts on the relative velocity u at the contact point; an
+      // impulse J changes it by -J_n/mu_n (normal) and -J_t/mu_t
+      // (tangential), 1/mu_n = 1/m + 1/M, 1/mu_t = 1/m + 1/M + a^2/I, and
+      // the pair's kinetic energy has the part u_n^2 mu_n/2 + u_t^2 mu_t/2
+      // in these directions: drawing u' from the flux-weighted Maxwellian
+      // with these masses keeps the pair's Maxwellian (doc/srd.md)
+      double const inv_mn = 1. / m + 1. / c.M;
+      double const inv_mt = inv_mn + (c.I > 0. ? b.radius * b.radius / c.I : 0.);
+      Vector3d const u = v0 - (V[h.j] + cross(W[h.j], arm));
+      double const un = u * nrm;
+      Vector3d const ut = u - un * nrm;
+      if (b.rule == BoundaryRule::stochastic) {
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
+        auto const x = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 1);
+        double const un2 = std::sqrt(kT * inv_mn) * std::sqrt(-2. * std::log(unit_open0(x[0])));
+        double const st = std::sqrt(kT * inv_mt);
+        Vector3d const ut2 = (st * g[0]) * t1 + (st * g[1]) * t2;
+        J = ((un - un2) / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
+      } else if (b.rule == BoundaryRule::bounce_back) {
+        J = (2. * un / inv_mn) * nrm + (2. / inv_mt) * ut;
+      } else if (b.rule == BoundaryRule::rough) {
+        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+        double const cc = 1. - 2. * K, st = std::sqrt((1. - cc * cc) * kT * inv_mt);
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
+        Vector3d const ut2 = cc * ut + (st * g[0]) * t1 + (st * g[1]) * t2;
+        J = (2. * un / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
+      } else { // slip: specular reflection of the relative normal velocity
+        J = un < 0. ? (2. * un / inv_mn) * nrm : Vector3d{};
+      }
+      vn = v0 - J / m;
+    } else {
+      // the rule in the frame of an infinitely heavy surface (seed 003)
+      double const sig = std::sqrt(kT / m);
+      Vector3d const vloc = V[h.j] + cross(W[h.j], arm);
+      if (b.rule == BoundaryRule::stochastic) {
+        // eqs. (1), (2) about the surface velocity: flux-weighted normal
+        // (Rayleigh) and Maxwellian tangential components
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
+        auto const x = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 1);
+        double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(x[0])));
+        vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
+      } else if (b.rule == BoundaryRule::bounce_back) {
+        vn = 2. * vloc - v0;
+      } else if (b.rule == BoundaryRule::rough) {
+        // mean tangential transfer of a rough-sphere collision (fraction 2K
+        // of the relative tangential velocity reversed); the rest redrawn
+        // from the Maxwellian so the rule keeps detailed balance
+        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
+        double const cc = 1. - 2. * K, s_noise = std::sqrt(1. - cc * cc) * sig;
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
+        Vector3d const vr = v0 - vloc;
+        Vector3d const vr_n = (vr * nrm) * nrm;
+        vn = vloc - vr_n + cc * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
+      } else {
+        double const vr = (v0 - vloc) * nrm;
+        vn = vr < 0. ? v0 - (2. * vr) * nrm : v0;
+      }
+      J = m * (v0 - vn);
+    }
+    Vector3d const Lj = cross(arm, J);
+    dP[h.j] += J;
+    dL[h.j] += Lj;
+    if (b.coupling == Coupling::seed003) { // applied at the end of the step
+      dP_late[h.j] += J;
+      dL_late[h.j] += Lj;
+    } else { // at once: the next bounce sees the new V, Omega
+      V[h.j] += J / c.M;
+      if (c.I > 0.)
+        W[h.j] += Lj / c.I;
+    }
+    if (h.rank != me)
+      continue;
+    int const i = h.index;
+    v[i] = vn;
+    pos[i] = c.R + arm + (0.5 * dt) * (pair ? vn - c.V : vn);
+    fold(pos[i], L);
   }
   for (std::size_t j = 0; j < cols.size(); ++j) {
     momentum_to_colloids += dP[j];
     int const k = cols[j].index;
     if (k < 0)
       continue; // owned by another rank
-    ps.v[k] += dP[j] / cols[j].M;
+    ps.v[k] = V[j] + dP_late[j] / cols[j].M;
 #ifdef ROTATION
     if (cols[j].I > 0.)
-      ps.omega[k] += dL[j] / cols[j].I;
+      ps.omega[k] = W[j] + dL_late[j] / cols[j].I;
 #endif
   }
 }
-
 // Channel walls at x[a] = 0 and L: exact crossing time (planes are cheap),
 // the boundary rule in the frame of the wall, the rest of the step streamed.
 void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {

@@ -15,6 +15,16 @@ namespace Srd {
 // velocity reversed, the rest thermal noise): the collision behind seed
 // 003's Enskog frictions (doc/srd.md).
 enum class BoundaryRule { stochastic, bounce_back, slip, rough };
+// How a bounce is coupled to the colloid (doc/srd.md, "Finite colloid mass"):
+// pair: the rule acts on the relative velocity at the contact point with the
+//   effective masses of the pair (particle, colloid), and each bounce's
+//   impulse is applied to the colloid at once, in the order of the SRD ids
+//   (detailed balance for the pair; the default);
+// fixed_surface: the rule in the frame of an infinitely heavy surface (seed
+//   003), impulses applied at once in id order;
+// seed003: seed 003 literally: infinitely heavy surface, all impulses of a
+//   step summed and applied at its end (runs warm at small M/m; comparison only).
+enum class Coupling { pair, fixed_surface, seed003 };
 } // namespace Srd
 
 struct SRDBoundary {
@@ -22,12 +32,14 @@ struct SRDBoundary {
                               *py_class = "SRDBoundaryInteraction",
                               *doc = "Boundary of an SRD colloid (seed 003): colloid type i is a hard sphere of "
                                      "radius for SRD type j, with the rule 'stochastic' (stick, thermalising), "
-                                     "'bounce_back' (stick), 'slip' (specular) or 'rough' (Enskog's rough sphere).";
+                                     "'bounce_back' (stick), 'slip' (specular) or 'rough' (Enskog's rough sphere); coupling 'pair' (default: reduced-mass rule, "
+                                     "impulses applied one by one), 'fixed_surface' or 'seed003' (comparison only).";
   static constexpr KernelRole role = KernelRole::srd_boundary;
   struct Params {
     bool active = false;
     double radius = 0.;
     Srd::BoundaryRule rule = Srd::BoundaryRule::stochastic;
+    Srd::Coupling coupling = Srd::Coupling::pair;
   };
   using P = Params;
   static std::vector<Field<P>> const &fields() {
@@ -39,6 +51,10 @@ struct SRDBoundary {
                  [](P &p, double x) { p.rule = Srd::BoundaryRule(int(x)); }};
       r.choices = {"stochastic", "bounce_back", "slip", "rough"};
       f.push_back(r);
+      Field<P> c{"coupling", FieldType::choice, [](P const &p) { return double(int(p.coupling)); },
+                 [](P &p, double x) { p.coupling = Srd::Coupling(int(x)); }};
+      c.choices = {"pair", "fixed_surface", "seed003"};
+      f.push_back(c);
       return f;
     }();
     return f;

@@ -16,8 +16,7 @@ they have no pair interactions and stream ballistically once per MD step; the
 collision happens every ``tau`` (a multiple of ``time_step``). Positions and
 velocities: ``system.srd.pos``, ``system.srd.v`` (numpy copies; ``v`` can be
 set). Checkpoints (pickling the System) carry the fluid and continue bit for
-bit. Not supported yet: more than one MPI rank (refused), H5MD output of the
-SRD particles (doc/srd.md).
+bit; MPI and H5MD work as for DPD (doc/srd.md).
 
 Theory (reference.md section 6; Kikuchi et al. 2003, Ihle et al. 2004,
 Padding et al. 2005 = seed 003): :func:`eta_kin`, :func:`eta_col`,
@@ -203,16 +202,20 @@ def boundary(system, c, s):
 
 
 def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule="stochastic",
-                v=(0.0, 0.0, 0.0), density=5.0):
+                v=(0.0, 0.0, 0.0), density=5.0, coupling="pair"):
     """Add one SRD colloid (a rotating MD particle, I = (2/5) M a^2) and its
     boundary for each SRD type. Default mass: neutrally buoyant,
     M = density (4/3) pi a^3 (seed 003 uses M = (2.5 a)^3: pass mass=125 for
-    its a = 2 colloid). SRD particles inside are moved to random free places (also before every run)."""
+    its a = 2 colloid). SRD particles inside are moved to random free places (also before every run).
+    ``coupling``: "pair" (default: the rule acts on the relative velocity of
+    the pair particle/colloid with their effective masses, each impulse
+    applied at once in SRD-id order; detailed balance for any M), or, for
+    comparison only, "fixed_surface" / "seed003" (doc/srd.md)."""
     assert_features("SRD", "ROTATION", "MASS")
     if mass is None:
         mass = density * 4.0 / 3.0 * np.pi * radius ** 3
     for s in srd_types:
-        boundary(system, type, s).set_params(radius=radius, rule=rule)
+        boundary(system, type, s).set_params(radius=radius, rule=rule, coupling=coupling)
     p = system.part.add(pos=pos, v=v, type=type, mass=mass, rotation=[True] * 3,
                         rinertia=[0.4 * mass * radius ** 2] * 3)
     if getattr(system, "_srd", None) is not None:
@@ -330,24 +333,35 @@ def enskog_friction(radius, M, density, kT=1.0, m=1.0, chi=0.4):
     return base * (1.0 + 2.0 * chi) / (1.0 + chi), base / (1.0 + chi)
 
 
-def kinetic_friction(radius, M, density, rule="stochastic", kT=1.0, m=1.0, chi=0.4):
+def kinetic_friction(radius, M, density, rule="stochastic", kT=1.0, m=1.0, chi=0.4, coupling="pair"):
     """Short-time (kinetic, uncorrelated-collision) friction rates (zeta_V,
-    zeta_Omega) of a sphere for each boundary rule (doc/srd.md). With the
-    specular (Epstein) rate z0 = (8/3) sqrt(2 pi kT m M/(m+M)) gamma a^2 / M:
+    zeta_Omega) of a sphere for each boundary rule (doc/srd.md, "Finite
+    colloid mass"). With the specular (Epstein) rate
+    z0 = (8/3) sqrt(2 pi kT mu_n) gamma a^2 / M, mu_n = m M/(m+M), and
+    q = mu_t/mu_n, 1/mu_t = 1/m + (1 + 1/chi)/M (``coupling="pair"``, the
+    default rule; q = 1 for the infinitely heavy surface of ``"seed003"`` /
+    ``"fixed_surface"``):
     slip: (z0, 0); rough (tangential reversal fraction K = chi/(1+chi), seed
-    003's Enskog eqs. 5, 6): (z0 (1+K), z0 K/chi); bounce_back (K = 1):
-    (2 z0, z0/chi); stochastic (diffuse re-emission at kT, Epstein):
-    (z0 (1 + pi/8), z0/(2 chi))."""
-    z0 = 8.0 / 3.0 * np.sqrt(2.0 * np.pi * kT * m * M / (m + M)) / M * density * radius ** 2
+    003's Enskog eqs. 5, 6 for q = 1): (z0 (1 + K q), z0 K q/chi);
+    bounce_back (K = 1): (z0 (1 + q), z0 q/chi); stochastic (diffuse
+    re-emission): (z0 (1/2 + pi/8 + q/2), z0 q/(2 chi)).
+    a = 2, M = 125, gamma = 5, stochastic, pair: (1.473, 1.306)."""
+    if coupling not in ("pair", "fixed_surface", "seed003"):
+        raise ValueError(f"parameter 'coupling' must be one of 'pair', 'fixed_surface', 'seed003', got {coupling!r}")
+    mu_n = m * M / (m + M)
+    z0 = 8.0 / 3.0 * np.sqrt(2.0 * np.pi * kT * mu_n) / M * density * radius ** 2
+    q = 1.0
+    if coupling == "pair":
+        q = 1.0 / (1.0 / m + (1.0 + 1.0 / chi) / M) / mu_n
     if rule == "slip":
         return z0, 0.0
     if rule == "rough":
         K = chi / (1.0 + chi)
-        return z0 * (1.0 + K), z0 * K / chi
+        return z0 * (1.0 + K * q), z0 * K * q / chi
     if rule == "bounce_back":
-        return 2.0 * z0, z0 / chi
+        return z0 * (1.0 + q), z0 * q / chi
     if rule == "stochastic":
-        return z0 * (1.0 + np.pi / 8.0), z0 / (2.0 * chi)
+        return z0 * (0.5 + np.pi / 8.0 + 0.5 * q), z0 * q / (2.0 * chi)
     raise ValueError(f"parameter 'rule' must be one of 'stochastic', 'bounce_back', 'slip', 'rough', got {rule!r}")
 
 

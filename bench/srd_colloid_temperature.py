@@ -1,0 +1,71 @@
+"""Temperature of a light stochastic stick colloid in the SRD fluid (doc/srd.md,
+"Finite colloid mass"): <M V^2>/3kT and <I Omega^2>/3kT against the colloid
+mass M and the time step dt, for the boundary couplings "pair" (default),
+"fixed_surface" and "seed003". Scene: a = 1.5, L = 10, density 5,
+alpha = 90 deg, tau = 0.1, MBS cell thermostat, stochastic rule; V and Omega
+sampled every 0.25 t0 after 20 t0; error from 20 blocks.
+Writes bench/results/srd_colloid_temperature.json (appends rows).
+
+    build/pymarble bench/srd_colloid_temperature.py --M 20 70 --dt 0.05 0.0125 --time 800
+"""
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+import marble
+import marble.srd as srd
+import marble.observables as obs
+import marble.accumulators as acc
+from marble.viscosity import block_average
+from bench_common import HERE
+
+p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+p.add_argument("--M", type=float, nargs="+", default=[20.0, 70.0, 125.0])
+p.add_argument("--dt", type=float, nargs="+", default=[0.05, 0.0125])
+p.add_argument("--coupling", nargs="+", default=["pair"])
+p.add_argument("--time", type=float, default=800.0)
+p.add_argument("--seed", type=int, default=11)
+p.add_argument("--out", default=os.path.join(HERE, "results", "srd_colloid_temperature.json"))
+args = p.parse_args()
+
+a, L, rho, tau = 1.5, 10.0, 5, 0.1
+rows = []
+for coupling in args.coupling:
+    for M in args.M:
+        for dt in args.dt:
+            t0 = time.process_time()
+            s = marble.System(box_l=[L] * 3, time_step=dt)
+            s.cell_system.skin = 0.5
+            s.srd = srd.SRDFluid(types=[0], tau=tau, angle=90, kT=1.0, seed=args.seed, thermostat="mbs")
+            srd.add_fluid(s, density=rho, type=0, kT=1.0, seed=args.seed + 1)
+            c = srd.add_colloid(s, pos=[L / 2] * 3, radius=a, mass=M, type=1, coupling=coupling)
+            s.integrator.run(int(round(20.0 / dt)))
+            every = max(1, int(round(0.25 / dt)))
+            tv = acc.TimeSeries(obs=obs.ParticleVelocities(ids=[c.id], system=s), delta_N=every)
+            tw = acc.TimeSeries(obs=obs.ParticleAngularVelocities(ids=[c.id], system=s), delta_N=every)
+            s.auto_update_accumulators.add(tv)
+            s.auto_update_accumulators.add(tw)
+            s.integrator.run(int(round(args.time / dt)))
+            V = np.array(tv.time_series()).reshape(-1, 3)
+            W = np.array(tw.time_series()).reshape(-1, 3)
+            I = 0.4 * M * a ** 2
+            ev = block_average((M * V ** 2).mean(axis=1), min_blocks=20)
+            ew = block_average((I * W ** 2).mean(axis=1), min_blocks=20)
+            kT_f = float(np.mean(s.srd.v.var(axis=0)))
+            row = dict(coupling=coupling, M=M, dt=dt, time=args.time, seed=args.seed,
+                       MV2=ev[0], MV2_err=ev[1], IW2=ew[0], IW2_err=ew[1], kT_fluid=kT_f,
+                       cpu_s=time.process_time() - t0)
+            rows.append(row)
+            print(f"{coupling:13s} M = {M:5.0f} dt = {dt:.4f}: <MV^2>/3kT = {ev[0]:.3f} +/- {ev[1]:.3f}, "
+                  f"<I W^2>/3kT = {ew[0]:.3f} +/- {ew[1]:.3f}  (fluid kT {kT_f:.3f}, {row['cpu_s']:.0f} CPU-s)",
+                  flush=True)
+
+old = []
+if os.path.exists(args.out):
+    with open(args.out) as f:
+        old = json.load(f)
+with open(args.out, "w") as f:
+    json.dump(old + rows, f, indent=1)
