@@ -3,7 +3,8 @@
 1, 2 and 3 ranks gives the same trajectory to 1e-9 over 200 collisions with a
 stochastic stick colloid that crosses the domain faces. The noise is keyed by
 (seed, collision, global cell index) and by particle ids, the collision cells
-straddling the domain faces are reduced over the ranks and the impulses on
+straddling the domain faces have their sums exchanged with the ranks they
+overlap (a neighbour exchange, 8 ranks at a 2x2x2 corner) and the impulses on
 the colloid are summed onto its owner, so only the order of floating-point
 sums differs. Also: the Andersen rule (25 collisions: its
 angular-momentum correction amplifies round-off) with angular-momentum conservation, the
@@ -62,10 +63,12 @@ def assert_same(a, b, tol=1e-9, keys=("pos", "v")):
 
 @pytest.fixture(scope="module")
 def colloid_runs():
-    return {n: run("srd_colloid", n) for n in (1, 2, 3)}
+    return {n: run("srd_colloid", n) for n in (1, 2, 3, 8)}
 
 
-@pytest.mark.parametrize("ranks", [2, 3])
+# 8 ranks: a 2x2x2 grid, where a collision cell at a domain corner is shared by
+# up to 8 ranks (the neighbour exchange adds their sums in rank order)
+@pytest.mark.parametrize("ranks", [2, 3, 8])
 def test_stick_colloid_same_trajectory(colloid_runs, ranks):
     one, many = colloid_runs[1], colloid_runs[ranks]
     assert int(one["ranks"]) == 1 and int(many["ranks"]) == ranks

@@ -5,11 +5,13 @@
 // On several MPI ranks (doc/srd.md, "Parallel runs"): the SRD particles are
 // first migrated to the rank whose domain holds them, then every rank sorts
 // its particles into the (global, shifted) collision cells. A cell that may
-// straddle a domain face (every cell of the slabs next to a face, the same
-// list on every rank) has its sums (count, momentum, and the Andersen and
-// angular parts) reduced over the ranks before the collision, and, for the
-// thermostat and the angular-momentum correction, a second set of sums after
-// the first half of it; all other cells are local. The noise of a cell is
+// straddle a domain face (a cell of the slabs next to a face whose extent
+// overlaps the domains of several ranks, found from the geometry alone, so
+// every rank agrees) has its sums (count, momentum, and the Andersen and
+// angular parts) exchanged with the other ranks it overlaps (a neighbour
+// exchange, no global reduction) and added in rank order before the
+// collision, and, for the thermostat and the angular-momentum correction, a
+// second set of sums after the first half of it; all other cells are local. The noise of a cell is
 // keyed by its global index, so every rank applies the same rotation and the
 // trajectory does not depend on the number of ranks (up to the order of the
 // floating-point sums of the shared cells).
@@ -19,7 +21,10 @@
 #include "box/BoxGeometry.hpp"
 #include "system/System.hpp"
 
+#include "utils/errors.hpp"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace Marble::Srd {
@@ -144,13 +149,21 @@ void Fluid::collide(System &s) {
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
 
-  // cells shared between ranks: the slabs of cells next to every domain face
-  // (conservatively the cell holding the face and its two neighbours), the
-  // same sorted list on every rank
-  std::vector<int> shared;
+  // cells shared between ranks: candidates are the slabs of cells next to
+  // every domain face (the cell holding the face and its two neighbours);
+  // for each candidate the ranks whose domain it overlaps (touch_ranks, the
+  // same answer on every rank). A cell touched by this rank and another one
+  // gets a slot in `shared` (ascending g); its sums are exchanged with the
+  // other touching ranks only (neighbour exchange) and added in rank order,
+  // so every touching rank gets the same bits.
+  std::vector<int> shared;                  // this rank's shared cells, ascending g
+  std::vector<std::vector<int>> shared_ranks; // their touching ranks, ascending
+  std::vector<std::vector<int>> peer_cells;   // per rank q: slots shared with q, ascending
   if (comm.parallel()) {
     auto const ng = s.cells().node_grid(box);
+    int const me = comm.rank();
     m_slot.assign(n_cells, -1);
+    std::vector<char> cand(n_cells, 0);
     for (int d = 0; d < 3; ++d) {
       if (ng[d] < 2)
         continue;
@@ -178,14 +191,70 @@ void Fluid::collide(System &s) {
         q[d] = k;
         for (q[d1] = 0; q[d1] < gdim[d1]; ++q[d1])
           for (q[d2] = 0; q[d2] < gdim[d2]; ++q[d2])
-            m_slot[(q[0] * gdim[1] + q[1]) * gdim[2] + q[2]] = 0;
+            cand[(q[0] * gdim[1] + q[1]) * gdim[2] + q[2]] = 1;
       }
     }
-    for (int g = 0; g < n_cells; ++g)
-      if (m_slot[g] == 0) {
-        m_slot[g] = static_cast<int>(shared.size());
-        shared.push_back(g);
+    // domain slabs along d that positions of cell coordinate k can lie in:
+    // x in [shift + r a0, shift + (r + 1) a0) n [0, L) for the raw index r
+    // (k - 1 on a wall axis; k and its periodic images in [-1, n] otherwise),
+    // widened by a tolerance (an extra rank only exchanges zeros)
+    std::array<std::vector<std::vector<int>>, 3> slabs_of;
+    for (int d = 0; d < 3; ++d) {
+      slabs_of[d].resize(gdim[d]);
+      double const dl = L[d] / ng[d], eps = 1e-9 * a0;
+      for (int k = 0; k < gdim[d]; ++k) {
+        auto &out = slabs_of[d][k];
+        auto add = [&](int r) {
+          double const lo = std::max(0., shift[d] + r * a0 - eps);
+          double const hi = std::min(L[d], shift[d] + (r + 1) * a0 + eps);
+          if (!(hi > lo))
+            return;
+          int const j0 = std::clamp(static_cast<int>(std::floor(lo / dl)), 0, ng[d] - 1);
+          int const j1 = std::clamp(static_cast<int>(std::floor(hi / dl)), 0, ng[d] - 1);
+          for (int j = j0; j <= j1; ++j)
+            out.push_back(j);
+        };
+        if (d == m_p.wall_axis) {
+          add(k - 1);
+        } else {
+          for (int r : {k - m_grid[d], k, k + m_grid[d]})
+            if (r >= -1 && r <= m_grid[d])
+              add(r);
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
       }
+    }
+    peer_cells.assign(comm.size(), {});
+    std::vector<int> ranks;
+    for (int g = 0; g < n_cells; ++g) {
+      if (!cand[g])
+        continue;
+      int const k0 = g / (gdim[1] * gdim[2]), k1 = (g / gdim[2]) % gdim[1], k2 = g % gdim[2];
+      ranks.clear();
+      for (int a : slabs_of[0][k0])
+        for (int b : slabs_of[1][k1])
+          for (int cc : slabs_of[2][k2])
+            ranks.push_back((a * ng[1] + b) * ng[2] + cc);
+      std::sort(ranks.begin(), ranks.end());
+      bool const mine = std::binary_search(ranks.begin(), ranks.end(), me);
+      if (!mine) {
+        if (m_count[g + 1] > m_count[g])
+          throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(me) +
+                                    " holds particles of collision cell " + std::to_string(g) +
+                                    " outside its domain (internal error: particle migration)");
+        continue;
+      }
+      if (ranks.size() < 2)
+        continue; // only this rank: a local cell
+      int const slot = static_cast<int>(shared.size());
+      m_slot[g] = slot;
+      shared.push_back(g);
+      shared_ranks.push_back(ranks);
+      for (int r : ranks)
+        if (r != me)
+          peer_cells[r].push_back(slot);
+    }
   }
   auto slot_of = [&](int g) { return comm.parallel() ? m_slot[g] : -1; };
 
@@ -326,8 +395,38 @@ void Fluid::collide(System &s) {
     stage1(g, b, e, m, B);
     stage2(g, b, e, m, B);
   }
-  if (!shared.empty()) {
-    comm.sum_inplace(bufA.data(), static_cast<int>(bufA.size()));
+  // shared cells: exchange the sums with the other touching ranks and add
+  // them in rank order (the same bits on every touching rank)
+  auto exchange = [&](std::vector<double> &buf, int nk) {
+    int const me = comm.rank();
+    std::vector<std::vector<double>> send(comm.size());
+    for (int q = 0; q < comm.size(); ++q)
+      for (int sl : peer_cells[q])
+        send[q].insert(send[q].end(), buf.begin() + static_cast<std::ptrdiff_t>(sl) * nk,
+                       buf.begin() + static_cast<std::ptrdiff_t>(sl + 1) * nk);
+    auto const recv = comm.alltoallv(send);
+    std::vector<std::size_t> at(comm.size(), 0);
+    for (int q = 0; q < comm.size(); ++q)
+      if (recv[q].size() != send[q].size())
+        throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(q) +
+                                  " sent " + std::to_string(recv[q].size()) + " shared-cell sums, rank " +
+                                  std::to_string(me) + " expected " + std::to_string(send[q].size()) +
+                                  " (internal error)");
+    std::vector<double> tot(static_cast<std::size_t>(nk));
+    for (std::size_t k = 0; k < shared.size(); ++k) {
+      std::fill(tot.begin(), tot.end(), 0.);
+      for (int r : shared_ranks[k]) {
+        double const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
+        for (int x = 0; x < nk; ++x)
+          tot[x] += src[x];
+        if (r != me)
+          at[r] += static_cast<std::size_t>(nk);
+      }
+      std::copy(tot.begin(), tot.end(), buf.begin() + static_cast<std::ptrdiff_t>(k) * nk);
+    }
+  };
+  if (comm.parallel()) {
+    exchange(bufA, nA);
     std::vector<Mean> ms(shared.size());
     for (std::size_t k = 0; k < shared.size(); ++k) {
       double const *Ak = &bufA[k * nA];
@@ -338,7 +437,7 @@ void Fluid::collide(System &s) {
       stage1(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
     if (thermo || ang)
-      comm.sum_inplace(bufB.data(), static_cast<int>(bufB.size()));
+      exchange(bufB, nB);
     for (std::size_t k = 0; k < shared.size(); ++k) {
       if (bufA[k * nA] < 2.)
         continue;
