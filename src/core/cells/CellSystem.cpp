@@ -173,7 +173,9 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   auto const dom = local_domain(box);
   Grid const g(dom.first, dom.second, m_range);
   // large-range locals go last (one extra bucket after the cells)
-  std::vector<int> cell(n), count(g.n_total() + 2, 0);
+  auto &cell = m_scratch_cell, &count = m_scratch_fill;
+  cell.resize(static_cast<std::size_t>(n));
+  count.assign(static_cast<std::size_t>(g.n_total() + 2), 0);
   bool const any_wide = !m_wide.empty();
   for (int i = 0; i < n; ++i) {
     cell[i] = (any_wide && wide(ps.type[i])) ? g.n_total() : g.local_index(ps.pos[i]);
@@ -181,7 +183,8 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   }
   for (int c = 0; c <= g.n_total(); ++c)
     count[c + 1] += count[c];
-  std::vector<int> order(n);
+  auto &order = m_scratch_ghost_begin;
+  order.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
     order[count[cell[i]]++] = i;
   bool sorted = true;
@@ -229,8 +232,22 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
+  // One rank, one range: a particle farther than the range (plus a margin
+  // far above round-off) from every periodic face gets no image (every shift
+  // has a non-zero component along some periodic axis, whose cheap reject
+  // below then holds): skip it without visiting the shifts.
+  bool const interior_test = !par && !any_wide;
+  Vector3d in_lo, in_hi;
+  for (int d = 0; d < 3; ++d) {
+    double const margin = 1e-9 * (L[d] + m_range);
+    in_lo[d] = box.periodic(d) ? m_range + margin : -std::numeric_limits<double>::infinity();
+    in_hi[d] = box.periodic(d) ? L[d] - m_range - margin : std::numeric_limits<double>::infinity();
+  }
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
+    if (interior_test && p[0] >= in_lo[0] && p[0] < in_hi[0] && p[1] >= in_lo[1] && p[1] < in_hi[1] &&
+        p[2] >= in_lo[2] && p[2] < in_hi[2] && !replicated(ps.type[i]))
+      continue;
     bool const w = any_wide && wide(ps.type[i]);
     double const r = w ? r_wide : m_range;
     if (replicated(ps.type[i])) {
@@ -496,8 +513,17 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     if (m_pairs.size() < want)
       m_pairs.resize(want);
   }
-  // per cell: the 9 rows (dz, dy) of 3 cells (dx = -1, 0, 1), each a slot range
-  std::array<std::array<CandidateRange, 3>, 9> rows{};
+  // Per cell, the candidate slots as items in list order: a row (dz, dy) of
+  // three cells whose slots are contiguous (kRow: [a0, b0) [b0, b1) [b1, c1)),
+  // i's own row from the slot after i (kOwn: [i+1, b1) [b1, c1)), or one cell
+  // (kCell). Per particle the near-face test trims a row's first/last cell or
+  // empties it without a branch; single cells (ghost-only cells below i's
+  // cell: the domain's boundary layer) are tested one by one.
+  enum : int { kRow, kOwn, kCell };
+  struct Item {
+    int kind, dz, dy, dx, a0, b0, b1, c1;
+  };
+  std::array<Item, 27> items{};
   std::array<CandidateRange, 27> kept{};
   for (int i_begin = 0; i_begin < n_small_local;) {
     int const ci = cell[i_begin];
@@ -511,56 +537,62 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       face_lo[d] = g.lo[d] + (cc[d] - 1) * g.size[d];
       face_hi[d] = face_lo[d] + g.size[d];
     }
-    {
-      int r = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy, ++r)
-          for (int dx = -1; dx <= 1; ++dx) {
-            int const cj = ci + dx + dy * sy + dz * sz;
-            CandidateRange &cr = rows[r][dx + 1];
-            if (cj < 0 || cj >= n_cells) {
-              cr = {0, 0};
-              continue;
-            }
-            // own cell: k0 is set per particle (the slots after i)
-            cr.k0 = cj < ci ? ghost_begin[cj] : start[cj];
-            cr.k1 = start[cj + 1];
-            max_cand += static_cast<std::size_t>(std::max(0, cr.k1 - cr.k0));
+    int n_items = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy) {
+        int k0[3], k1[3];
+        for (int dx = -1; dx <= 1; ++dx) {
+          int const cj = ci + dx + dy * sy + dz * sz;
+          int &lo = k0[dx + 1], &hi = k1[dx + 1];
+          if (cj < 0 || cj >= n_cells) {
+            lo = hi = 0;
+            continue;
           }
-    }
+          lo = cj < ci ? ghost_begin[cj] : start[cj];
+          hi = start[cj + 1];
+          if (cj == ci) // own cell: the list starts after i (set per particle)
+            lo = start[ci];
+          max_cand += static_cast<std::size_t>(std::max(0, hi - lo));
+        }
+        if (dz == 0 && dy == 0) {
+          if (k1[0] > k0[0])
+            items[n_items++] = {kCell, dz, dy, -1, k0[0], k1[0], 0, 0};
+          items[n_items++] = {kOwn, dz, dy, 0, 0, 0, k1[1], std::max(k1[1], k1[2])};
+        } else if (k1[0] == k0[1] && k1[1] == k0[2]) {
+          items[n_items++] = {kRow, dz, dy, 0, k0[0], k0[1], k1[1], k1[2]};
+        } else {
+          for (int dx = -1; dx <= 1; ++dx)
+            if (k1[dx + 1] > k0[dx + 1])
+              items[n_items++] = {kCell, dz, dy, dx, k0[dx + 1], k1[dx + 1], 0, 0};
+        }
+      }
     for (int i = i_begin; i < i_end; ++i) {
       if (m_pairs.size() < n_pairs + max_cand + kPad)
         m_pairs.resize(2 * m_pairs.size() + max_cand + kPad);
       Vector3d const pi = ps.pos[i];
-      rows[4][1].k0 = start[ci] + (i - i_begin) + 1; // own cell: the slots after i
-      // squared distances to the near faces of the neighbours at -1 / +1
-      double gm[3], gp[3];
+      int const self_next = start[ci] + (i - i_begin) + 1; // own cell: the slots after i
+      // squared distances to the near faces of the neighbours at -1, 0, +1
+      double gap2[3][3];
       for (int d = 0; d < 3; ++d) {
         double const a = std::max(0., pi[d] - face_lo[d] - eps[d]);
         double const b = std::max(0., face_hi[d] - pi[d] - eps[d]);
-        gm[d] = a * a;
-        gp[d] = b * b;
+        gap2[d][0] = a * a;
+        gap2[d][1] = 0.;
+        gap2[d][2] = b * b;
       }
       int n_kept = 0;
-      int r = 0;
-      for (int dz = -1; dz <= 1; ++dz) {
-        double const gz = dz < 0 ? gm[2] : (dz > 0 ? gp[2] : 0.);
-        for (int dy = -1; dy <= 1; ++dy, ++r) {
-          double const gyz = gz + (dy < 0 ? gm[1] : (dy > 0 ? gp[1] : 0.));
-          if (gyz >= range2)
-            continue;
-          for (int dx = 0; dx < 3; ++dx) {
-            CandidateRange const &cr = rows[r][dx];
-            if (cr.k1 <= cr.k0)
-              continue;
-            if (dx != 1 && gyz + (dx == 0 ? gm[0] : gp[0]) >= range2)
-              continue;
-            if (n_kept > 0 && kept[n_kept - 1].k1 == cr.k0)
-              kept[n_kept - 1].k1 = cr.k1;
-            else
-              kept[n_kept++] = cr;
-          }
+      for (int q = 0; q < n_items; ++q) {
+        Item const &it = items[q];
+        double const gyz = gap2[2][it.dz + 1] + gap2[1][it.dy + 1];
+        if (it.kind == kCell) {
+          if (gyz + gap2[0][it.dx + 1] < range2)
+            kept[n_kept++] = {it.a0, it.b0};
+          continue;
         }
+        bool const cut_left = gyz + gap2[0][0] >= range2, cut_right = gyz + gap2[0][2] >= range2;
+        int const lo = it.kind == kOwn ? self_next : (cut_left ? it.b0 : it.a0);
+        int const hi = (gyz >= range2) ? lo : (cut_right ? it.b1 : it.c1);
+        kept[n_kept++] = {lo, hi};
       }
 #ifdef MARBLE_CELLS_AVX2
       if (avx2)
