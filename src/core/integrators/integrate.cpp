@@ -46,8 +46,30 @@ void System::drift_checked(bool kick_first) {
   auto *const v = m_ps.v.data();
   auto *const x = m_ps.pos.data();
   auto const *const f = m_ps.f.data();
+  // 0.5 dt / m of each local, computed once per step (the same value for the
+  // kick, the check and the drift)
+  m_half_dt_over_m.resize(static_cast<std::size_t>(n));
+  double *const am = m_half_dt_over_m.data();
+#ifdef EXTERNAL_FORCE
+  auto const *const fix = m_ps.fix.data();
+#endif
+  auto fixed_any = [&](int i) {
+#ifdef EXTERNAL_FORCE
+    return fix[i] != 0;
+#else
+    (void)i;
+    return false;
+#endif
+  };
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
-    double const a = 0.5 * dt / m_ps.get_mass(i);
+    double const a = am[i];
+    if (!fixed_any(i)) {
+      for (int d = 0; d < 3; ++d) {
+        dv[d] = a * f[i][d];
+        dx[d] = dt * (v[i][d] + dv[d]);
+      }
+      return;
+    }
     for (int d = 0; d < 3; ++d) {
       bool const fx = m_ps.is_fixed(i, d);
       dv[d] = fx ? -v[i][d] : a * f[i][d];
@@ -59,8 +81,14 @@ void System::drift_checked(bool kick_first) {
   if (kick_first) {
     for (int i = 0; i < n; ++i) {
       double const a = half_dt / m_ps.get_mass(i);
-      for (int d = 0; d < 3; ++d)
-        v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
+      am[i] = a;
+      if (!fixed_any(i)) {
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = v[i][d] + a * f[i][d];
+      } else {
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
+      }
 #ifdef ROTATION
       if (m_ps.rotation[i])
         m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
@@ -74,6 +102,8 @@ void System::drift_checked(bool kick_first) {
       }
     }
   } else {
+    for (int i = 0; i < n; ++i)
+      am[i] = 0.5 * dt / m_ps.get_mass(i);
     for (int i = 0; i < n; ++i) {
       Vector3d dv, dx;
       step_of(i, dv, dx);

@@ -260,6 +260,7 @@ private:
    * skin/2 since the last list build (-1: not known); read and cleared by
    * the next ensure_lists, which then skips its own sweep. */
   int m_displacement_hint = -1;
+  std::vector<double> m_half_dt_over_m; // drift_checked's 0.5 dt / m per local
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
   /** Configure the cell system's large-range types for a rebuild; returns
