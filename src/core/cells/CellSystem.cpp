@@ -584,14 +584,18 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       for (int q = 0; q < n_items; ++q) {
         Item const &it = items[q];
         double const gyz = gap2[2][it.dz + 1] + gap2[1][it.dy + 1];
+        // 0/1 flags and integer arithmetic: no data-dependent branch
         if (it.kind == kCell) {
-          if (gyz + gap2[0][it.dx + 1] < range2)
-            kept[n_kept++] = {it.a0, it.b0};
+          kept[n_kept] = {it.a0, it.b0};
+          n_kept += static_cast<int>(gyz + gap2[0][it.dx + 1] < range2);
           continue;
         }
-        bool const cut_left = gyz + gap2[0][0] >= range2, cut_right = gyz + gap2[0][2] >= range2;
-        int const lo = it.kind == kOwn ? self_next : (cut_left ? it.b0 : it.a0);
-        int const hi = (gyz >= range2) ? lo : (cut_right ? it.b1 : it.c1);
+        int const cut_left = static_cast<int>(gyz + gap2[0][0] >= range2);
+        int const cut_right = static_cast<int>(gyz + gap2[0][2] >= range2);
+        int const cut_row = static_cast<int>(gyz >= range2);
+        int const lo = it.kind == kOwn ? self_next : it.a0 + cut_left * (it.b0 - it.a0);
+        int hi = it.c1 - cut_right * (it.c1 - it.b1);
+        hi -= cut_row * (hi - lo);
         kept[n_kept++] = {lo, hi};
       }
 #ifdef MARBLE_CELLS_AVX2
