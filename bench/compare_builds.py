@@ -8,7 +8,8 @@ fresh process of each build in turn (A B A B ...), so load from other jobs
 hits both alike. Each process sets up one case, relaxes it and times
 integrator.run(steps); the figure is particle-steps per CPU-second of that
 process (process CPU time: the one-core throughput even on a shared
-machine). Reported: the median of the rounds per build and their ratio.
+machine). Reported: the median of the rounds per build and their ratio, and the
+range of the per-round ratios (each round's two runs are back to back).
 Writes bench/results/compare_builds.json.
 
 Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
@@ -136,11 +137,14 @@ def main(argv=None):
             shutil.rmtree(tmp, ignore_errors=True)
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps, "cases": {}}
     print(f"\nparticle-steps per CPU-second, median of {args.rounds} interleaved rounds")
-    print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}")
+    print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios (min-max)")
     for c in cases:
         mc, mb = (statistics.median(samples[c][w]) for w in ("current", "baseline"))
-        out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c])
-        print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}")
+        # each round's current/baseline pair ran back to back: its ratio sees the same load
+        rr = [a / b for a, b in zip(samples[c]["current"], samples[c]["baseline"])]
+        out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c],
+                               round_ratios=rr)
+        print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}")
     if "marble" in cases and "dpd_a0_g5" in cases:
         for w in ("current", "baseline"):
             ov = out["cases"]["dpd_a0_g5"][w] / out["cases"]["marble"][w]

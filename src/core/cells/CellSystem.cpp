@@ -6,8 +6,12 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <cstdint>
 #ifdef __SSE2__
 #include <emmintrin.h>
+#endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
 #endif
 
 namespace Marble {
@@ -169,7 +173,9 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   auto const dom = local_domain(box);
   Grid const g(dom.first, dom.second, m_range);
   // large-range locals go last (one extra bucket after the cells)
-  std::vector<int> cell(n), count(g.n_total() + 2, 0);
+  auto &cell = m_scratch_cell, &count = m_scratch_fill;
+  cell.resize(static_cast<std::size_t>(n));
+  count.assign(static_cast<std::size_t>(g.n_total() + 2), 0);
   bool const any_wide = !m_wide.empty();
   for (int i = 0; i < n; ++i) {
     cell[i] = (any_wide && wide(ps.type[i])) ? g.n_total() : g.local_index(ps.pos[i]);
@@ -177,7 +183,8 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   }
   for (int c = 0; c <= g.n_total(); ++c)
     count[c + 1] += count[c];
-  std::vector<int> order(n);
+  auto &order = m_scratch_ghost_begin;
+  order.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
     order[count[cell[i]]++] = i;
   bool sorted = true;
@@ -225,8 +232,22 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
+  // One rank, one range: a particle farther than the range (plus a margin
+  // far above round-off) from every periodic face gets no image (every shift
+  // has a non-zero component along some periodic axis, whose cheap reject
+  // below then holds): skip it without visiting the shifts.
+  bool const interior_test = !par && !any_wide;
+  Vector3d in_lo, in_hi;
+  for (int d = 0; d < 3; ++d) {
+    double const margin = 1e-9 * (L[d] + m_range);
+    in_lo[d] = box.periodic(d) ? m_range + margin : -std::numeric_limits<double>::infinity();
+    in_hi[d] = box.periodic(d) ? L[d] - m_range - margin : std::numeric_limits<double>::infinity();
+  }
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
+    if (interior_test && p[0] >= in_lo[0] && p[0] < in_hi[0] && p[1] >= in_lo[1] && p[1] < in_hi[1] &&
+        p[2] >= in_lo[2] && p[2] < in_hi[2] && !replicated(ps.type[i]))
+      continue;
     bool const w = any_wide && wide(ps.type[i]);
     double const r = w ? r_wide : m_range;
     if (replicated(ps.type[i])) {
@@ -296,19 +317,131 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   }
 }
 
+namespace {
+
+/** A run of candidate slots [k0, k1) of the cell-ordered members. */
+struct CandidateRange {
+  int k0, k1;
+};
+
+/** Append (i, members[k]) for every candidate k of @p ranges (in order) with
+ * |p_i - p_k|^2 < @p range2 to @p out from slot @p n; returns the new count.
+ * Scalar/SSE2 form. The coordinate and member arrays are padded by 4 slots. */
+std::size_t scan_candidates(int i, double const *pi, double range2, CandidateRange const *ranges,
+                            int n_ranges, double const *mx, double const *my, double const *mz,
+                            int const *members, std::array<int, 2> *out, std::size_t n) {
+#ifdef __SSE2__
+  __m128d const px = _mm_set1_pd(pi[0]), py = _mm_set1_pd(pi[1]), pz = _mm_set1_pd(pi[2]);
+  __m128d const r2v = _mm_set1_pd(range2);
+#endif
+  for (int q = 0; q < n_ranges; ++q) {
+    int k = ranges[q].k0;
+    int const k1 = ranges[q].k1;
+#ifdef __SSE2__
+    // two candidates at a time (same arithmetic as the scalar test)
+    for (; k + 1 < k1; k += 2) {
+      __m128d const dx = _mm_sub_pd(px, _mm_loadu_pd(mx + k));
+      __m128d const dy = _mm_sub_pd(py, _mm_loadu_pd(my + k));
+      __m128d const dz = _mm_sub_pd(pz, _mm_loadu_pd(mz + k));
+      __m128d const d2 =
+          _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+      int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
+      out[n] = {i, members[k]};
+      n += static_cast<std::size_t>(mask & 1);
+      out[n] = {i, members[k + 1]};
+      n += static_cast<std::size_t>(mask >> 1);
+    }
+#endif
+    for (; k < k1; ++k) {
+      double const dx = pi[0] - mx[k], dy = pi[1] - my[k], dz = pi[2] - mz[k];
+      out[n] = {i, members[k]};
+      n += (dx * dx + dy * dy + dz * dz < range2) ? 1 : 0;
+    }
+  }
+  return n;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define MARBLE_CELLS_AVX2 1
+/** For each 4-bit lane mask: the 32-bit words (2 per pair) of the selected
+ * lanes first, in lane order; and the lane count. */
+struct CompressTable {
+  alignas(32) std::int32_t perm[16][8];
+  int count[16];
+  constexpr CompressTable() : perm{}, count{} {
+    for (int m = 0; m < 16; ++m) {
+      int c = 0;
+      for (int l = 0; l < 4; ++l)
+        if ((m >> l) & 1) {
+          perm[m][2 * c] = 2 * l;
+          perm[m][2 * c + 1] = 2 * l + 1;
+          ++c;
+        }
+      count[m] = c;
+    }
+  }
+};
+constexpr CompressTable kCompress{};
+
+/** scan_candidates with AVX2: four candidates per test (the same arithmetic:
+ * (dx^2 + dy^2) + dz^2 < range2, no FMA), the pairs within range written by
+ * one permuted store; a range's tail is masked (the arrays are padded). */
+__attribute__((target("avx2"))) std::size_t
+scan_candidates_avx2(int i, double const *pi, double range2, CandidateRange const *ranges,
+                     int n_ranges, double const *mx, double const *my, double const *mz,
+                     int const *members, std::array<int, 2> *out, std::size_t n) {
+  __m256d const px = _mm256_set1_pd(pi[0]), py = _mm256_set1_pd(pi[1]), pz = _mm256_set1_pd(pi[2]);
+  __m256d const r2v = _mm256_set1_pd(range2);
+  __m128i const iv = _mm_set1_epi32(i);
+  for (int q = 0; q < n_ranges; ++q) {
+    int const k1 = ranges[q].k1;
+    for (int k = ranges[q].k0; k < k1; k += 4) {
+      __m256d const dx = _mm256_sub_pd(px, _mm256_loadu_pd(mx + k));
+      __m256d const dy = _mm256_sub_pd(py, _mm256_loadu_pd(my + k));
+      __m256d const dz = _mm256_sub_pd(pz, _mm256_loadu_pd(mz + k));
+      __m256d const d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                       _mm256_mul_pd(dz, dz));
+      int const rem = k1 - k;
+      int const m = _mm256_movemask_pd(_mm256_cmp_pd(d2, r2v, _CMP_LT_OQ)) &
+                    (rem >= 4 ? 15 : (1 << rem) - 1);
+      __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(members + k));
+      __m256i const ij = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_unpacklo_epi32(iv, js)),
+                                                 _mm_unpackhi_epi32(iv, js), 1);
+      __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.perm[m]));
+      _mm256_storeu_si256(reinterpret_cast<__m256i *>(out + n), _mm256_permutevar8x32_epi32(ij, perm));
+      n += static_cast<std::size_t>(kCompress.count[m]);
+    }
+  }
+  return n;
+}
+
+bool cpu_has_avx2() {
+  static bool const has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
+} // namespace
+
 // The list order (and so the force summation order) is: locals i ascending;
 // for each, the 27 neighbour cells in (dz, dy, dx) order; in each cell its
 // locals ascending, then its ghosts ascending. Since locals are sorted by cell,
 // a neighbour cell below i's cell holds only locals < i, and in i's own cell
 // the locals > i follow i directly: whole ranges are skipped instead of
 // testing j > i per candidate. Candidates are read from a cell-ordered copy of
-// the positions and appended without a branch.
+// the positions and appended without a branch (four at a time with AVX2).
+// In that order the candidates of i are the member slots in ascending order.
+// A neighbour cell (or a row of three) is skipped for i when the distance from
+// p_i to the cell's near face(s) is already >= the range (minus a margin far
+// above round-off): none of its candidates could pass the test, so the list
+// is the same, pair for pair, as with every cell scanned.
 void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
-  m_pairs.clear();
   m_cell_start.clear();
   m_cell_members.clear();
-  if (m_range <= 0.)
+  if (m_range <= 0.) {
+    m_pairs.clear();
     return;
+  }
   auto const dom = local_domain(box);
   m_grid = Grid(dom.first, dom.second, m_range);
   Grid const &g = m_grid;
@@ -320,7 +453,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   // sorted last (sort_locals), so the small locals are [0, n_small_local).
   bool const any_wide = !m_wide.empty();
   m_wide_locals.clear();
-  std::vector<int> cell(n_all);
+  auto &cell = m_scratch_cell;
+  cell.resize(static_cast<std::size_t>(n_all));
   auto &start = m_cell_start;
   auto &members = m_cell_members;
   start.assign(n_cells + 1, 0);
@@ -337,18 +471,24 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     ++n_members;
   }
   int const n_small_local = n_local - static_cast<int>(m_wide_locals.size());
-  members.resize(n_members);
+  constexpr int kPad = 4; // the AVX2 scan reads up to 3 slots past a range
+  members.assign(static_cast<std::size_t>(n_members + kPad), 0);
   for (int c = 0; c < n_cells; ++c)
     start[c + 1] += start[c];
-  std::vector<int> fill(start.begin(), start.end() - 1);
+  auto &fill = m_scratch_fill;
+  fill.assign(start.begin(), start.end() - 1);
   for (int i = 0; i < n_small_local; ++i)
     members[fill[cell[i]]++] = i;
-  std::vector<int> ghost_begin(fill); // locals of cell c: [start[c], ghost_begin[c])
+  auto &ghost_begin = m_scratch_ghost_begin; // locals of cell c: [start[c], ghost_begin[c])
+  ghost_begin.assign(fill.begin(), fill.end());
   for (int i = n_local; i < n_all; ++i)
     if (cell[i] >= 0)
       members[fill[cell[i]]++] = i;
   // Cell-ordered coordinates, one array per axis: contiguous reads below.
-  std::vector<double> mx(n_members + 1), my(n_members + 1), mz(n_members + 1);
+  auto &mx = m_scratch_x, &my = m_scratch_y, &mz = m_scratch_z;
+  mx.assign(static_cast<std::size_t>(n_members + kPad), 0.);
+  my.assign(static_cast<std::size_t>(n_members + kPad), 0.);
+  mz.assign(static_cast<std::size_t>(n_members + kPad), 0.);
   for (int k = 0; k < n_members; ++k) {
     auto const &p = ps.pos[members[k]];
     mx[k] = p[0];
@@ -357,83 +497,120 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   }
 
   double const range2 = m_range * m_range;
-  std::array<int, 27> offsets{};
-  {
-    int const sy = g.ext[0], sz = g.ext[0] * g.ext[1];
-    int q = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          offsets[q++] = dx + dy * sy + dz * sz;
-  }
-  // For each cell holding locals, the candidate ranges of `members` in list
-  // order, merged where contiguous (the three cells of a stencil row are
-  // adjacent in memory). kSelf marks the range that starts after i itself.
-  constexpr int kSelf = -1;
-  std::vector<std::array<int, 2>> ranges;
-  ranges.reserve(27);
+  int const sy = g.ext[0], sz = g.ext[0] * g.ext[1];
+  // margin of the face test: far above the round-off of positions and cell faces
+  std::array<double, 3> eps{};
+  for (int d = 0; d < 3; ++d)
+    eps[d] = 1e-9 * (std::abs(g.lo[d]) + g.size[d] * g.ext[d]);
+#ifdef MARBLE_CELLS_AVX2
+  bool const avx2 = cpu_has_avx2();
+#endif
+  // The list keeps its size between rebuilds (no zero fill of the whole
+  // buffer): it grows only when a particle's candidates might not fit.
   std::size_t n_pairs = 0;
-  m_pairs.resize(std::max<std::size_t>(1024, static_cast<std::size_t>(n_local) * 24));
+  {
+    std::size_t const want = std::max<std::size_t>(1024, m_pairs.size() + m_pairs.size() / 8 + 64);
+    if (m_pairs.size() < want)
+      m_pairs.resize(want);
+  }
+  // Per cell, the candidate slots as items in list order: a row (dz, dy) of
+  // three cells whose slots are contiguous (kRow: [a0, b0) [b0, b1) [b1, c1)),
+  // i's own row from the slot after i (kOwn: [i+1, b1) [b1, c1)), or one cell
+  // (kCell). Per particle the near-face test trims a row's first/last cell or
+  // empties it without a branch; single cells (ghost-only cells below i's
+  // cell: the domain's boundary layer) are tested one by one.
+  enum : int { kRow, kOwn, kCell };
+  struct Item {
+    int kind, dz, dy, dx, a0, b0, b1, c1;
+  };
+  std::array<Item, 27> items{};
+  std::array<CandidateRange, 27> kept{};
   for (int i_begin = 0; i_begin < n_small_local;) {
     int const ci = cell[i_begin];
     int i_end = i_begin;
     while (i_end < n_small_local && cell[i_end] == ci)
       ++i_end;
-    ranges.clear();
-    for (int const off : offsets) {
-      int const cj = ci + off;
-      if (cj < 0 || cj >= n_cells)
-        continue;
-      int const k0 = cj < ci ? ghost_begin[cj] : (cj == ci ? kSelf : start[cj]);
-      int const k1 = start[cj + 1];
-      if (k0 != kSelf && k1 <= k0)
-        continue;
-      if (!ranges.empty() && k0 != kSelf && ranges.back()[1] == k0)
-        ranges.back()[1] = k1;
-      else
-        ranges.push_back({k0, k1});
-    }
     std::size_t max_cand = 0;
-    for (auto const &r : ranges)
-      max_cand += static_cast<std::size_t>(r[1] - (r[0] == kSelf ? start[ci] : r[0]));
-    for (int i = i_begin; i < i_end; ++i) {
-      if (m_pairs.size() < n_pairs + max_cand)
-        m_pairs.resize(2 * m_pairs.size() + max_cand);
-      auto *const out = m_pairs.data();
-      Vector3d const pi = ps.pos[i];
-      int const self_k = start[ci] + (i - i_begin); // i's slot in its cell
-#ifdef __SSE2__
-      __m128d const px = _mm_set1_pd(pi[0]), py = _mm_set1_pd(pi[1]), pz = _mm_set1_pd(pi[2]);
-      __m128d const r2v = _mm_set1_pd(range2);
-#endif
-      for (auto const &r : ranges) {
-        int k = r[0] == kSelf ? self_k + 1 : r[0];
-        int const k1 = r[1];
-#ifdef __SSE2__
-        // two candidates at a time (same arithmetic as the scalar test)
-        for (; k + 1 < k1; k += 2) {
-          __m128d const dx = _mm_sub_pd(px, _mm_loadu_pd(mx.data() + k));
-          __m128d const dy = _mm_sub_pd(py, _mm_loadu_pd(my.data() + k));
-          __m128d const dz = _mm_sub_pd(pz, _mm_loadu_pd(mz.data() + k));
-          __m128d const d2 =
-              _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-          int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
-          out[n_pairs] = {i, members[k]};
-          n_pairs += static_cast<std::size_t>(mask & 1);
-          out[n_pairs] = {i, members[k + 1]};
-          n_pairs += static_cast<std::size_t>(mask >> 1);
+    int const cc[3] = {ci % g.ext[0], (ci / g.ext[0]) % g.ext[1], ci / sz};
+    double face_lo[3], face_hi[3];
+    for (int d = 0; d < 3; ++d) {
+      face_lo[d] = g.lo[d] + (cc[d] - 1) * g.size[d];
+      face_hi[d] = face_lo[d] + g.size[d];
+    }
+    int n_items = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy) {
+        int k0[3], k1[3];
+        for (int dx = -1; dx <= 1; ++dx) {
+          int const cj = ci + dx + dy * sy + dz * sz;
+          int &lo = k0[dx + 1], &hi = k1[dx + 1];
+          if (cj < 0 || cj >= n_cells) {
+            lo = hi = 0;
+            continue;
+          }
+          lo = cj < ci ? ghost_begin[cj] : start[cj];
+          hi = start[cj + 1];
+          if (cj == ci) // own cell: the list starts after i (set per particle)
+            lo = start[ci];
+          max_cand += static_cast<std::size_t>(std::max(0, hi - lo));
         }
-#endif
-        for (; k < k1; ++k) {
-          double const dx = pi[0] - mx[k], dy = pi[1] - my[k], dz = pi[2] - mz[k];
-          out[n_pairs] = {i, members[k]};
-          n_pairs += (dx * dx + dy * dy + dz * dz < range2) ? 1 : 0;
+        if (dz == 0 && dy == 0) {
+          if (k1[0] > k0[0])
+            items[n_items++] = {kCell, dz, dy, -1, k0[0], k1[0], 0, 0};
+          items[n_items++] = {kOwn, dz, dy, 0, 0, 0, k1[1], std::max(k1[1], k1[2])};
+        } else if (k1[0] == k0[1] && k1[1] == k0[2]) {
+          items[n_items++] = {kRow, dz, dy, 0, k0[0], k0[1], k1[1], k1[2]};
+        } else {
+          for (int dx = -1; dx <= 1; ++dx)
+            if (k1[dx + 1] > k0[dx + 1])
+              items[n_items++] = {kCell, dz, dy, dx, k0[dx + 1], k1[dx + 1], 0, 0};
         }
       }
+    for (int i = i_begin; i < i_end; ++i) {
+      if (m_pairs.size() < n_pairs + max_cand + kPad)
+        m_pairs.resize(2 * m_pairs.size() + max_cand + kPad);
+      Vector3d const pi = ps.pos[i];
+      int const self_next = start[ci] + (i - i_begin) + 1; // own cell: the slots after i
+      // squared distances to the near faces of the neighbours at -1, 0, +1
+      double gap2[3][3];
+      for (int d = 0; d < 3; ++d) {
+        double const a = std::max(0., pi[d] - face_lo[d] - eps[d]);
+        double const b = std::max(0., face_hi[d] - pi[d] - eps[d]);
+        gap2[d][0] = a * a;
+        gap2[d][1] = 0.;
+        gap2[d][2] = b * b;
+      }
+      int n_kept = 0;
+      for (int q = 0; q < n_items; ++q) {
+        Item const &it = items[q];
+        double const gyz = gap2[2][it.dz + 1] + gap2[1][it.dy + 1];
+        // 0/1 flags and integer arithmetic: no data-dependent branch
+        if (it.kind == kCell) {
+          kept[n_kept] = {it.a0, it.b0};
+          n_kept += static_cast<int>(gyz + gap2[0][it.dx + 1] < range2);
+          continue;
+        }
+        int const cut_left = static_cast<int>(gyz + gap2[0][0] >= range2);
+        int const cut_right = static_cast<int>(gyz + gap2[0][2] >= range2);
+        int const cut_row = static_cast<int>(gyz >= range2);
+        int const lo = it.kind == kOwn ? self_next : it.a0 + cut_left * (it.b0 - it.a0);
+        int hi = it.c1 - cut_right * (it.c1 - it.b1);
+        hi -= cut_row * (hi - lo);
+        kept[n_kept++] = {lo, hi};
+      }
+#ifdef MARBLE_CELLS_AVX2
+      if (avx2)
+        n_pairs = scan_candidates_avx2(i, pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                       mz.data(), members.data(), m_pairs.data(), n_pairs);
+      else
+#endif
+        n_pairs = scan_candidates(i, pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                  mz.data(), members.data(), m_pairs.data(), n_pairs);
     }
     i_begin = i_end;
   }
   m_pairs.resize(n_pairs);
+  members.resize(static_cast<std::size_t>(n_members));
   if (parallel()) {
     // a pair with another rank's particle is computed by the rank owning the smaller id
     m_pairs.erase(std::remove_if(m_pairs.begin(), m_pairs.end(),

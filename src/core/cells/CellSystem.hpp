@@ -188,6 +188,9 @@ private:
   std::vector<std::array<int, 2>> m_pairs;
   Grid m_grid;
   std::vector<int> m_cell_start, m_cell_members; // all particles (locals + ghosts) by cell
+  // rebuild scratch, kept between rebuilds (no allocation or page faults per rebuild)
+  std::vector<int> m_scratch_cell, m_scratch_fill, m_scratch_ghost_begin;
+  std::vector<double> m_scratch_x, m_scratch_y, m_scratch_z;
   int m_n_local_at_build = 0;
   Communicator const *m_comm = nullptr;
   std::vector<char> m_replicated;

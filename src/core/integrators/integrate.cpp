@@ -33,29 +33,86 @@ void System::kick(double half_dt) {
 
 // Half kick + drift, refusing a step that moves a particle farther than the
 // skin or makes it non-finite: the step is checked first (on every rank) and
-// then done, so a refused step changes nothing.
-void System::drift_checked() {
+// then done, so a refused step changes nothing. Two sweeps over the locals:
+// (1) [the previous step's closing half kick, when run_md deferred it: the
+// same arithmetic as kick()] and the check; (2) the half kick and drift, and
+// the Verlet-list displacement test on the new positions (the test
+// ensure_lists would otherwise do in a third sweep).
+void System::drift_checked(bool kick_first) {
   double const dt = m_time_step;
+  double const half_dt = 0.5 * m_time_step;
   double const max2 = m_cells.skin() * m_cells.skin();
   int const n = m_ps.n_local();
+  auto *const v = m_ps.v.data();
+  auto *const x = m_ps.pos.data();
+  auto const *const f = m_ps.f.data();
+  // 0.5 dt / m of each local, computed once per step (the same value for the
+  // kick, the check and the drift)
+  m_half_dt_over_m.resize(static_cast<std::size_t>(n));
+  double *const am = m_half_dt_over_m.data();
+#ifdef EXTERNAL_FORCE
+  auto const *const fix = m_ps.fix.data();
+#endif
+  auto fixed_any = [&](int i) {
+#ifdef EXTERNAL_FORCE
+    return fix[i] != 0;
+#else
+    (void)i;
+    return false;
+#endif
+  };
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
-    double const a = 0.5 * dt / m_ps.get_mass(i);
+    double const a = am[i];
+    if (!fixed_any(i)) {
+      for (int d = 0; d < 3; ++d) {
+        dv[d] = a * f[i][d];
+        dx[d] = dt * (v[i][d] + dv[d]);
+      }
+      return;
+    }
     for (int d = 0; d < 3; ++d) {
       bool const fx = m_ps.is_fixed(i, d);
-      dv[d] = fx ? -m_ps.v[i][d] : a * m_ps.f[i][d];
-      dx[d] = fx ? 0. : dt * (m_ps.v[i][d] + dv[d]);
+      dv[d] = fx ? -v[i][d] : a * f[i][d];
+      dx[d] = fx ? 0. : dt * (v[i][d] + dv[d]);
     }
   };
   int bad = -1;
   double bad_disp2 = 0.;
-  for (int i = 0; i < n; ++i) {
-    Vector3d dv, dx;
-    step_of(i, dv, dx);
-    double const disp2 = dx.norm2();
-    if (!(disp2 <= max2)) { // also catches NaN
-      bad = i;
-      bad_disp2 = disp2;
-      break;
+  if (kick_first) {
+    for (int i = 0; i < n; ++i) {
+      double const a = half_dt / m_ps.get_mass(i);
+      am[i] = a;
+      if (!fixed_any(i)) {
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = v[i][d] + a * f[i][d];
+      } else {
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
+      }
+#ifdef ROTATION
+      if (m_ps.rotation[i])
+        m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
+#endif
+      Vector3d dv, dx;
+      step_of(i, dv, dx);
+      double const disp2 = dx.norm2();
+      if (!(disp2 <= max2) && bad < 0) { // also catches NaN
+        bad = i;
+        bad_disp2 = disp2;
+      }
+    }
+  } else {
+    for (int i = 0; i < n; ++i)
+      am[i] = 0.5 * dt / m_ps.get_mass(i);
+    for (int i = 0; i < n; ++i) {
+      Vector3d dv, dx;
+      step_of(i, dv, dx);
+      double const disp2 = dx.norm2();
+      if (!(disp2 <= max2)) { // also catches NaN
+        bad = i;
+        bad_disp2 = disp2;
+        break;
+      }
     }
   }
   if (m_comm.any(bad >= 0)) {
@@ -88,16 +145,22 @@ void System::drift_checked() {
     }
     m_comm.throw_if_any(msg);
   }
+  // the list's displacement test (CellSystem::displacement_exceeds_half_skin)
+  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
+  auto const *const x0 = m_ps.pos_at_rebuild.data();
+  bool moved = false;
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
-    m_ps.v[i] += dv;
-    m_ps.pos[i] += dx;
+    v[i] += dv;
+    x[i] += dx;
+    moved |= (x[i] - x0[i]).norm2() > lim2;
 #ifdef ROTATION
     if (m_ps.rotation[i])
       m_ps.omega[i] += (0.5 * dt / m_ps.rinertia[i]) * m_ps.torque[i];
 #endif
   }
+  m_displacement_hint = moved ? 1 : 0;
 }
 
 void System::check_thermostats_before_run() const {
@@ -167,6 +230,13 @@ int System::run(int n_steps, bool recalc_forces) {
 // that change only what follows the second half kick (Shardlow S1: an exact
 // pairwise thermostat sweep; DPD-VV: the friction of the half kick's velocity
 // change added to the forces).
+bool System::accumulator_due() const {
+  for (auto const &acc : m_auto_update)
+    if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
+      return true;
+  return false;
+}
+
 int System::run_md(int n_steps) {
   if (m_time_step <= 0.)
     throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
@@ -176,11 +246,22 @@ int System::run_md(int n_steps) {
     check_forces_finite();
   }
   [[maybe_unused]] std::vector<Vector3d> dv;
+  // Plain velocity Verlet: a step's closing half kick is done by the next
+  // step's first sweep (drift_checked(true)) unless something reads the
+  // state in between (an accumulator due, the end of the run).
+  bool kick_pending = false;
   for (int s = 0; s < n_steps; ++s) {
-    drift_checked();
+    try {
+      drift_checked(kick_pending);
+    } catch (...) {
+      m_displacement_hint = -1;
+      throw;
+    }
+    kick_pending = false;
     ++m_step;
     m_time += m_time_step;
 #ifdef SRD
+    m_displacement_hint = srd ? -1 : m_displacement_hint; // SRD may move the colloids
     if (srd) // SRD: stream (impulses to the colloids) and collide when due
       srd->md_step(*this);
 #endif
@@ -205,14 +286,20 @@ int System::run_md(int n_steps) {
           dv[i] = m_ps.v[i] - dv[i];
         add_friction_of_dv(*this, dv);
       }
-    } else {
+    } else if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active) {
       kick(0.5 * m_time_step);
       // the sweep sees x(t + dt), so the state returned is the one just thermalised
-      if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active)
-        shardlow_sweep(*this);
+      shardlow_sweep(*this);
+    } else if (s + 1 < n_steps && !accumulator_due()) {
+      kick_pending = true;
+    } else {
+      kick(0.5 * m_time_step);
     }
 #else
-    kick(0.5 * m_time_step);
+    if (s + 1 < n_steps && !accumulator_due())
+      kick_pending = true;
+    else
+      kick(0.5 * m_time_step);
 #endif
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstddef>
+#include <cstring>
+#include <type_traits>
 
 namespace Marble {
 
@@ -177,10 +180,19 @@ GhostRecord ParticleStore::ghost_record(int i, Utils::Vector3d const &shift) con
 
 void ParticleStore::permute_locals(std::vector<int> const &order) {
   assert(n_ghost() == 0 && static_cast<int>(order.size()) == m_n_local);
-  auto apply = [&order](auto &arr) {
-    auto copy = arr;
-    for (std::size_t k = 0; k < order.size(); ++k)
-      arr[k] = copy[order[k]];
+  // gather each array through one byte buffer kept between calls (no
+  // allocation, hence no fresh pages, per rebuild)
+  auto apply = [this, &order](auto &arr) {
+    using T = typename std::decay_t<decltype(arr)>::value_type;
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::size_t const n = order.size();
+    std::size_t const words = (n * sizeof(T) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+    if (m_permute_scratch.size() < words)
+      m_permute_scratch.resize(words);
+    auto *const tmp = reinterpret_cast<T *>(m_permute_scratch.data());
+    for (std::size_t k = 0; k < n; ++k)
+      tmp[k] = arr[static_cast<std::size_t>(order[k])];
+    std::memcpy(static_cast<void *>(arr.data()), tmp, n * sizeof(T));
   };
   for_each_array(apply);
   for_each_local_array(apply);

@@ -7,6 +7,7 @@
 #include "config/features.hpp"
 #include "utils/Vector.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -124,6 +125,8 @@ private:
   template <typename F> void for_each_local_array(F &&f);
   int m_n_local = 0;
   std::vector<int> m_index; // id -> local index, -1 if absent
+  // permute_locals' gather buffer (max_align_t elements: aligned for every array type)
+  std::vector<std::max_align_t> m_permute_scratch;
 };
 
 } // namespace Marble

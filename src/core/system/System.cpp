@@ -133,7 +133,12 @@ void System::ensure_lists() {
   if (cut <= 0. && m_colloids.any())
     cut = 1.;
 #endif
-  if (!m_cells.valid() || cut != m_cut_at_rebuild || m_cells.displacement_exceeds_half_skin(m_ps)) {
+  // the drift sweep of run_md has already compared the positions with those
+  // of the last build (same test, same positions): only the vote is left
+  int const hint = m_displacement_hint;
+  m_displacement_hint = -1;
+  if (!m_cells.valid() || cut != m_cut_at_rebuild ||
+      (hint >= 0 ? m_comm.any(hint != 0) : m_cells.displacement_exceeds_half_skin(m_ps))) {
     m_cells.rebuild(m_ps, m_box, configure_large_range(cut));
     m_cut_at_rebuild = cut;
 #ifdef MARBLE

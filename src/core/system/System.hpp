@@ -235,7 +235,12 @@ private:
   }
   void rebuild_if_needed();
   void kick(double half_dt);
-  void drift_checked();
+  /** Half kick + drift of one step, refused (nothing moved) if a particle
+   * would move farther than the skin. @p kick_first: first do the previous
+   * step's closing half kick (deferred by run_md) in the same sweep. */
+  void drift_checked(bool kick_first = false);
+  /** Some auto-update accumulator updates at the current step. */
+  bool accumulator_due() const;
 
   Communicator m_comm;
   BoxGeometry m_box;
@@ -251,6 +256,11 @@ private:
   bool m_forces_valid = false;
   bool m_dpd_in_pair_loop = true;
   double m_cut_at_rebuild = -1.;
+  /** Set by drift_checked: whether some local (this rank) moved more than
+   * skin/2 since the last list build (-1: not known); read and cleared by
+   * the next ensure_lists, which then skips its own sweep. */
+  int m_displacement_hint = -1;
+  std::vector<double> m_half_dt_over_m; // drift_checked's 0.5 dt / m per local
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
   /** Configure the cell system's large-range types for a rebuild; returns

@@ -41,6 +41,84 @@ class CellSystem:
         """The skin the Verlet lists use (differs from ``skin`` only after ``skin = 0``)."""
         return self._system._core.skin
 
+    def tune_skin(self, min_skin, max_skin, tol, int_steps, adjust_max_skin=False):
+        """Choose the Verlet skin that makes ``int_steps`` steps cheapest and
+        set it; returns the skin (ESPResSo's ``cell_system.tune_skin``).
+
+        A larger skin means fewer list rebuilds but more listed pairs to test
+        every step (doc/benchmarks.md, "Verlet build and integrator passes").
+        The search is a golden-section search on [min_skin, max_skin] down to
+        an interval of ``tol``; each trial runs ``int_steps`` steps on a
+        *copy* of the system (pickled: the whole state) and times them in
+        process CPU time, so this system's state (positions, velocities, step
+        counter, thermostat counters) is unchanged: only the skin is set. A
+        trial skin at which a step moves a particle farther than the skin (a
+        refused step) counts as infinitely slow. The choice depends on the
+        machine's load; the physics does not depend on the skin (the pair
+        sums only change at round-off through the list order).
+
+        Parameters: ``min_skin`` > 0, ``max_skin`` > ``min_skin`` (at most
+        half the smallest box length; with ``adjust_max_skin=True`` a larger
+        value is lowered to that limit), ``tol`` > 0, ``int_steps`` >= 1.
+        Runs on one MPI rank only (raises ``RuntimeError`` under mpiexec)."""
+        import math
+        import pickle
+        import time
+
+        from . import _marble
+        core = self._system._core
+
+        def real(name, x):
+            if isinstance(x, bool) or not isinstance(x, numbers.Real) or not math.isfinite(x):
+                raise ValueError(f"parameter '{name}' must be a finite number, got {x!r}")
+            return float(x)
+
+        min_skin, max_skin, tol = real("min_skin", min_skin), real("max_skin", max_skin), real("tol", tol)
+        half_box = 0.5 * float(min(core.box_l))
+        if adjust_max_skin:
+            max_skin = min(max_skin, half_box)
+        if not min_skin > 0:
+            raise ValueError(f"parameter 'min_skin' must be > 0, got {min_skin}")
+        if not min_skin < max_skin <= half_box:
+            raise ValueError(f"parameter 'max_skin' must be in ({min_skin}, {half_box}] (min_skin, "
+                             f"half the smallest box length), got {max_skin}")
+        if not tol > 0:
+            raise ValueError(f"parameter 'tol' must be > 0, got {tol}")
+        if isinstance(int_steps, bool) or not isinstance(int_steps, numbers.Integral) or int_steps < 1:
+            raise ValueError(f"parameter 'int_steps' must be an integer >= 1, got {int_steps!r}")
+        if _marble.mpi_size() > 1:
+            raise RuntimeError("cell_system.tune_skin runs on one MPI rank only: tune the skin "
+                               "without mpiexec and set cell_system.skin in the MPI run")
+        blob = pickle.dumps(self._system)
+
+        def cost(skin):
+            trial = pickle.loads(blob)
+            trial.cell_system.skin = skin
+            try:
+                trial.integrator.run(0)  # the list build at this skin, outside the timing
+                c0 = time.process_time()
+                trial.integrator.run(int(int_steps))
+                return time.process_time() - c0
+            except RuntimeError:  # a step moved a particle farther than the skin
+                return math.inf
+
+        g = (math.sqrt(5.0) - 1.0) / 2.0
+        a, b = min_skin, max_skin
+        c, d = b - g * (b - a), a + g * (b - a)
+        fc, fd = cost(c), cost(d)
+        while b - a > tol:
+            if fc <= fd:
+                b, d, fd = d, c, fc
+                c = b - g * (b - a)
+                fc = cost(c)
+            else:
+                a, c, fc = c, d, fd
+                d = a + g * (b - a)
+                fd = cost(d)
+        best = c if fc <= fd else d
+        self.skin = best
+        return best
+
     def set_regular_decomposition(self, use_verlet_lists=True):
         """Accepted for ESPResSo scripts: Marble always uses a regular cell grid
         with Verlet lists. ``use_verlet_lists=False`` is accepted too; the forces
