@@ -6,7 +6,10 @@
 // both paths do the same IEEE operations, so a trajectory has the same bits on
 // every x86-64 CPU. The arithmetic is that of Hat::force_over_r and
 // DPDPair::force (pair_force.hpp) up to rounding (1/r once per pair instead
-// of the divisions): the same to ~1e-15 relative.
+// of the divisions): the same to ~1e-15 relative. LennardJones::force_over_r
+// with an offset is the scalar kernel's arithmetic; without one the force is
+// computed from 1/r^2 (one division, no root: LAMMPS-style), the same to
+// ~1e-15 relative.
 #include "forces/pair_simd.hpp"
 
 #include "nonbonded/registry.hpp"
@@ -24,7 +27,14 @@ namespace Marble {
 bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out) {
   out = {};
   unsigned const hat_bit = pair_loop_bit_if_compiled<Hat>(), dpd_bit = pair_loop_bit_if_compiled<DPDPair>();
-  unsigned const handled = hat_bit | dpd_bit;
+  unsigned const lj_bit = pair_loop_bit_if_compiled<LennardJones>();
+  unsigned const handled = hat_bit | dpd_bit | lj_bit;
+  auto const &l = ia.get<LennardJones>(); // reads as off where LENNARD_JONES is not compiled in
+  if ((mask & lj_bit) && l.active) {
+    out.lj = l.offset == 0. ? 1 : 2;
+    out.lj_eps48 = 48. * l.epsilon, out.lj_sig2 = l.sigma * l.sigma;
+    out.lj_cut = l.cutoff, out.lj_off = l.offset, out.lj_min = l.min;
+  }
   auto const &h = ia.get<Hat>(); // reads as off where HAT is not compiled in
   if ((mask & hat_bit) && h.active) {
     out.hat = true;
@@ -81,8 +91,10 @@ namespace {
 
 /** The loop body for one set of switches (hoisted out of the loop so that
  * it has no branch left and vectorises). */
-template <bool Hat, bool Dpd, bool Trans, bool Mass>
+template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
 [[gnu::always_inline]] inline void block_forces(SimdPairParams const &p, int n, PairBlockSoA &b) {
+  double const eps48 = p.lj_eps48, sig2 = p.lj_sig2, lcut = p.lj_cut, loff = p.lj_off, lmin = p.lj_min;
+  double const lcut2 = lcut * lcut, lmin2 = lmin * lmin;
   double const fmax = p.hat_fmax, hcut = p.hat_cut, hoff = p.hat_off;
   double const doff = p.dpd_off, gamma = p.gamma, rc = p.rc, pref = p.pref;
   double const tgamma = p.tgamma, trc = p.trc, tpref = p.tpref;
@@ -97,18 +109,40 @@ template <bool Hat, bool Dpd, bool Trans, bool Mass>
   double const *__restrict const ms = b.m;
   for (int s = 0; s < n; ++s) {
     double const dx = dxs[s], dy = dys[s], dz = dzs[s];
-    double const r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    double const r2 = dx * dx + dy * dy + dz * dz;
+    constexpr bool need_r = Hat || Dpd || Lj == 2;
+    double const r = need_r ? std::sqrt(r2) : 0.;
     // 1/r, 0 at r = 0; a NaN distance stays NaN (the force check reports it).
     // Selects between constants and always-safe divisions: no branch is left.
     double const nz = r != 0. ? 1. : 0.;
-    double const rinv = nz / (r + (1. - nz));
-    double fx = 0., fy = 0., fz = 0.;
+    double const rinv = (Hat || Dpd) ? nz / (r + (1. - nz)) : 0.;
+    double fac = 0.; // the conservative kernels' force / r, in kernel-list order (LJ, hat)
+    if constexpr (Lj == 1) {
+      // LennardJones::force_over_r at offset 0 from r^2: inside min < r < cutoff
+      // (a NaN distance is inside: it stays NaN), 1/r^2 of 1 outside
+      bool const in = !(r2 >= lcut2) && !(r2 <= lmin2);
+      double const r2inv = 1. / (in ? r2 : 1.);
+      double const q2 = sig2 * r2inv;
+      double const q6 = q2 * q2 * q2;
+      fac = in ? eps48 * q6 * (q6 - 0.5) * r2inv : 0.;
+    } else if constexpr (Lj == 2) {
+      // the scalar kernel's operations, roff = r - offset and roff * r of 1 outside
+      double const roff = r - loff;
+      bool const in = !(roff >= lcut) && !(roff <= lmin);
+      double const rs = in ? roff : 1.;
+      double const q2 = sig2 / (rs * rs);
+      double const q6 = q2 * q2 * q2;
+      fac = in ? eps48 * q6 * (q6 - 0.5) / (rs * r) : 0.;
+    }
     if constexpr (Hat) {
       double const x = r - hoff;
       double const in = !(x >= hcut) ? 1. : 0.;
-      double const fac = in * (fmax * (1. - x / hcut) * rinv);
-      fx = fac * dx, fy = fac * dy, fz = fac * dz;
+      double const fh = in * (fmax * (1. - x / hcut) * rinv);
+      fac = Lj != 0 ? fac + fh : fh;
     }
+    double fx = 0., fy = 0., fz = 0.;
+    if constexpr (Lj != 0 || Hat)
+      fx = fac * dx, fy = fac * dy, fz = fac * dz;
     if constexpr (Dpd) {
       double const ex = dx * rinv, ey = dy * rinv, ez = dz * rinv;
       double const vx = vxs[s], vy = vys[s], vz = vzs[s];
@@ -135,24 +169,44 @@ template <bool Hat, bool Dpd, bool Trans, bool Mass>
 
 } // namespace
 
+// one case per set of switches: LJ (0, 1, 2) x hat x {none, DPD, +TRANS} (x mass)
+#define MARBLE_BLOCK_CASE(L, H, D, T, M)                                                             \
+  case 16u * (L) + 1u * (H) + 2u * (D) + 4u * (T) + 8u * (M):                                      \
+    return block_forces<L, H, D, T, M>(p, n, b);
+#define MARBLE_BLOCK_CASES_DPD(L, H, M)                                                              \
+  MARBLE_BLOCK_CASE(L, H, true, false, M)                                                            \
+  MARBLE_BLOCK_CASE(L, H, true, true, M)
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+#define MARBLE_BLOCK_CASES(L, H)                                                                     \
+  MARBLE_BLOCK_CASES_DPD(L, H, false)                                                                \
+  MARBLE_BLOCK_CASES_DPD(L, H, true)
+#else
+#define MARBLE_BLOCK_CASES(L, H) MARBLE_BLOCK_CASES_DPD(L, H, false)
+#endif
+
 MARBLE_PAIR_SIMD_CLONES
 void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
-  unsigned const sw = (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) | (p.dpd && p.trans ? 4u : 0u) |
-                      (p.dpd && mass ? 8u : 0u);
+  unsigned const sw = 16u * static_cast<unsigned>(p.lj) | (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) |
+                      (p.dpd && p.trans ? 4u : 0u) | (p.dpd && mass ? 8u : 0u);
   switch (sw) {
-  case 1: return block_forces<true, false, false, false>(p, n, b);
-  case 2: return block_forces<false, true, false, false>(p, n, b);
-  case 3: return block_forces<true, true, false, false>(p, n, b);
-  case 6: return block_forces<false, true, true, false>(p, n, b);
-  case 7: return block_forces<true, true, true, false>(p, n, b);
-  case 10: return block_forces<false, true, false, true>(p, n, b);
-  case 11: return block_forces<true, true, false, true>(p, n, b);
-  case 14: return block_forces<false, true, true, true>(p, n, b);
-  case 15: return block_forces<true, true, true, true>(p, n, b);
+    MARBLE_BLOCK_CASE(0, true, false, false, false)
+    MARBLE_BLOCK_CASE(1, false, false, false, false)
+    MARBLE_BLOCK_CASE(1, true, false, false, false)
+    MARBLE_BLOCK_CASE(2, false, false, false, false)
+    MARBLE_BLOCK_CASE(2, true, false, false, false)
+    MARBLE_BLOCK_CASES(0, false)
+    MARBLE_BLOCK_CASES(0, true)
+    MARBLE_BLOCK_CASES(1, false)
+    MARBLE_BLOCK_CASES(1, true)
+    MARBLE_BLOCK_CASES(2, false)
+    MARBLE_BLOCK_CASES(2, true)
   default:
     for (int s = 0; s < n; ++s)
       b.fx[s] = b.fy[s] = b.fz[s] = 0.;
   }
 }
+#undef MARBLE_BLOCK_CASES
+#undef MARBLE_BLOCK_CASES_DPD
+#undef MARBLE_BLOCK_CASE
 
 } // namespace Marble

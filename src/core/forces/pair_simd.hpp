@@ -1,8 +1,8 @@
 #pragma once
 // The pair forces of a block of pairs in SIMD lanes (forces/pair_simd.cpp), for
-// the common kernel sets: the Groot-Warren hat and the DPD pair thermostat
-// (weight function 0, or 1 with k = 1; TRANS_DPD; the DPD_MASS_* factors;
-// offsets). forces.cpp takes this path where every type pair of the scene is
+// the common kernel sets: Lennard-Jones (any shift, offset and min), the
+// Groot-Warren hat and the DPD pair thermostat (weight function 0, or 1 with
+// k = 1; TRANS_DPD; the DPD_MASS_* factors; offsets), alone or together. forces.cpp takes this path where every type pair of the scene is
 // served by it, the generic scalar loop (pair_force.hpp) everywhere else, so a
 // kernel without a SIMD form works as before (doc/adding-an-interaction.md).
 #include "forces/pair_traversal.hpp"
@@ -19,6 +19,10 @@ template <class K> constexpr unsigned pair_loop_bit_if_compiled() {
 
 /** One type pair's kernels in the form the SIMD block takes (off: 0 gain). */
 struct SimdPairParams {
+  // Lennard-Jones: 0 off, 1 offset 0 (computed from r^2 alone: no root),
+  // 2 with an offset (the scalar kernel's arithmetic)
+  int lj = 0;
+  double lj_eps48 = 0., lj_sig2 = 0., lj_cut = 0., lj_off = 0., lj_min = 0.;
   bool hat = false;
   double hat_fmax = 0., hat_cut = 1., hat_off = 0.;
   bool dpd = false;
