@@ -30,40 +30,10 @@ constexpr unsigned simd_kernels() {
          pair_loop_bit_if_compiled<DPDPair>();
 }
 
-/** Select the pairs of a block within their cutoff and gather them: for each
- * listed pair q, d = r_i - r_j, i and j are stored at the next free slot n,
- * which advances only for a pair within range (one pass, no branch: half to
- * two thirds of the listed pairs are outside, a branch there is mispredicted
- * often). The positions of particle i are loaded once per run of its pairs
- * (the list is built per particle i) and those of the j a few pairs ahead
- * are prefetched. Returns the number selected. */
-template <bool OneType>
-[[gnu::always_inline]] inline int select_gather(std::array<int, 2> const *__restrict blk, int nb,
-                                                Vector3d const *__restrict pos, int const *__restrict typ,
-                                                double const *__restrict cut2_table, int nt,
-                                                int *__restrict bi, int *__restrict bj, PairBlockSoA &B) {
-  constexpr int ahead = 16; // listed pairs
-  double const cut2 = cut2_table[0];
-  double *__restrict const dxs = B.dx, *__restrict const dys = B.dy, *__restrict const dzs = B.dz;
-  int n = 0;
-  for (int q = 0; q < nb; ++q) {
-    if (q + ahead < nb)
-      __builtin_prefetch(&pos[blk[q + ahead][1]]);
-    int const i = blk[q][0], j = blk[q][1];
-    double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
-    bi[n] = i, bj[n] = j;
-    dxs[n] = dx, dys[n] = dy, dzs[n] = dz;
-    double const c2 = OneType ? cut2 : cut2_table[typ[i] * nt + typ[j]];
-    // a NaN distance is kept (the force check reports it)
-    n += !(dx * dx + dy * dy + dz * dz >= c2) ? 1 : 0;
-  }
-  return n;
-}
-
 /** The loop of a scene whose list-served type pairs all have the same kernels,
  * each with a SIMD form (simd_scene_params): per block of listed pairs,
  * select those within the cutoff and gather them into structures of arrays
- * (select_gather), draw the noise and compute the forces in SIMD lanes, then
+ * (pair_block_select), draw the noise and compute the forces in SIMD lanes, then
  * add them up in list order (the summation order of the scalar loop; the
  * force on i is summed in registers over a run of pairs of the same i, the
  * same additions in the same order). */
@@ -87,7 +57,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   auto const *const typ = ps.type.data();
   auto soa = std::make_unique<PairBlockSoA>();
   PairBlockSoA &B = *soa;
-  alignas(64) std::array<int, kPairBlock> bi, bj;
+  alignas(64) std::array<std::array<int, 2>, kPairBlock> bij;
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
@@ -95,11 +65,10 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
     int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
     auto const *const blk = pairs.data() + b0;
-    int const n = nt == 1 ? select_gather<true>(blk, nb, pos, typ, cut2_table.data(), nt, bi.data(), bj.data(), B)
-                          : select_gather<false>(blk, nb, pos, typ, cut2_table.data(), nt, bi.data(), bj.data(), B);
+    int const n = pair_block_select(blk, nb, pos, typ, cut2_table.data(), nt, bij.data(), B);
     if (dpd) {
       for (int s = 0; s < n; ++s) {
-        int const i = bi[s], j = bj[s];
+        int const i = bij[s][0], j = bij[s][1];
         B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
         order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
         if constexpr (mass)
@@ -111,15 +80,15 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
     // scatter: f_i summed in registers over the run of pairs of one i (no j
     // of the run is i), f_j subtracted pair by pair, in list order
     for (int s = 0; s < n;) {
-      int const i = bi[s];
+      int const i = bij[s][0];
       double fix = frc[i][0], fiy = frc[i][1], fiz = frc[i][2];
       do {
         double const fx = B.fx[s], fy = B.fy[s], fz = B.fz[s];
         fix += fx, fiy += fy, fiz += fz;
-        auto &fj = frc[bj[s]];
+        auto &fj = frc[bij[s][1]];
         fj[0] -= fx, fj[1] -= fy, fj[2] -= fz;
         ++s;
-      } while (s < n && bi[s] == i);
+      } while (s < n && bij[s][0] == i);
       frc[i][0] = fix, frc[i][1] = fiy, frc[i][2] = fiz;
     }
   }

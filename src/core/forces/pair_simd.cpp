@@ -14,7 +14,14 @@
 
 #include "nonbonded/registry.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define MARBLE_PAIR_SELECT_AVX2 1
+#include <immintrin.h>
+#endif
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define MARBLE_PAIR_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
@@ -120,19 +127,19 @@ template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
     if constexpr (Lj == 1) {
       // LennardJones::force_over_r at offset 0 from r^2: inside min < r < cutoff
       // (a NaN distance is inside: it stays NaN), 1/r^2 of 1 outside
-      bool const in = !(r2 >= lcut2) && !(r2 <= lmin2);
-      double const r2inv = 1. / (in ? r2 : 1.);
+      double const in = (!(r2 >= lcut2) ? 1. : 0.) * (!(r2 <= lmin2) ? 1. : 0.);
+      double const r2inv = 1. / (in * r2 + (1. - in));
       double const q2 = sig2 * r2inv;
       double const q6 = q2 * q2 * q2;
-      fac = in ? eps48 * q6 * (q6 - 0.5) * r2inv : 0.;
+      fac = in * (eps48 * q6 * (q6 - 0.5) * r2inv);
     } else if constexpr (Lj == 2) {
       // the scalar kernel's operations, roff = r - offset and roff * r of 1 outside
       double const roff = r - loff;
-      bool const in = !(roff >= lcut) && !(roff <= lmin);
-      double const rs = in ? roff : 1.;
+      double const in = (!(roff >= lcut) ? 1. : 0.) * (!(roff <= lmin) ? 1. : 0.);
+      double const rs = in * roff + (1. - in), rr = in * r + (1. - in);
       double const q2 = sig2 / (rs * rs);
       double const q6 = q2 * q2 * q2;
-      fac = in ? eps48 * q6 * (q6 - 0.5) / (rs * r) : 0.;
+      fac = in * (eps48 * q6 * (q6 - 0.5) / (rs * rr));
     }
     if constexpr (Hat) {
       double const x = r - hoff;
@@ -167,7 +174,122 @@ template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
   }
 }
 
+/** The scalar select (the reference for the AVX2 one): per listed pair the
+ * pair and d are stored at slot n, which advances only for a pair in range.
+ * The position of i is loaded once per run of its pairs (the list is built
+ * per particle i), those of the j a few pairs ahead are prefetched. */
+template <bool OneType>
+int select_scalar(std::array<int, 2> const *__restrict blk, int q0, int nb, Utils::Vector3d const *__restrict pos,
+                  int const *__restrict typ, double const *__restrict cut2_table, int nt,
+                  std::array<int, 2> *__restrict bij, PairBlockSoA &B, int n) {
+  constexpr int ahead = 16; // listed pairs
+  double const cut2 = cut2_table[0];
+  double *__restrict const dxs = B.dx, *__restrict const dys = B.dy, *__restrict const dzs = B.dz;
+  int ci = -1;
+  double xi = 0., yi = 0., zi = 0.;
+  for (int q = q0; q < nb; ++q) {
+    if (q + ahead < nb)
+      __builtin_prefetch(&pos[blk[q + ahead][1]]);
+    std::array<int, 2> const pr = blk[q];
+    int const i = pr[0], j = pr[1];
+    if (i != ci) // a new run of pairs of one i (predictable: runs are long)
+      ci = i, xi = pos[i][0], yi = pos[i][1], zi = pos[i][2];
+    double const dx = xi - pos[j][0], dy = yi - pos[j][1], dz = zi - pos[j][2];
+    bij[n] = pr;
+    dxs[n] = dx, dys[n] = dy, dzs[n] = dz;
+    double const c2 = OneType ? cut2 : cut2_table[typ[i] * nt + typ[j]];
+    n += !(dx * dx + dy * dy + dz * dz >= c2) ? 1 : 0;
+  }
+  return n;
+}
+
+#ifdef MARBLE_PAIR_SELECT_AVX2
+/** Lane permutation (as 32-bit words) that moves the selected 64-bit lanes of
+ * a 4-bit mask to the front, in order. */
+struct CompressTable {
+  alignas(32) std::int32_t idx[16][8];
+  constexpr CompressTable() : idx{} {
+    for (int m = 0; m < 16; ++m) {
+      int k = 0;
+      for (int l = 0; l < 4; ++l)
+        if (m & (1 << l))
+          idx[m][2 * k] = 2 * l, idx[m][2 * k + 1] = 2 * l + 1, ++k;
+      for (; k < 4; ++k)
+        idx[m][2 * k] = 0, idx[m][2 * k + 1] = 1;
+    }
+  }
+};
+constexpr CompressTable kCompress{};
+
+/** (x, y, z) of four particles as three vectors of their x, y and z. */
+__attribute__((target("avx2"), always_inline)) inline void load4(Utils::Vector3d const *__restrict pos, int a,
+                                                                  int b, int c, int d, __m256d &x, __m256d &y,
+                                                                  __m256d &z) {
+  double const *pa = pos[a].data(), *pb = pos[b].data(), *pc = pos[c].data(), *pd = pos[d].data();
+  __m256d const ac = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(pa)), _mm_loadu_pd(pc), 1);
+  __m256d const bd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(pb)), _mm_loadu_pd(pd), 1);
+  x = _mm256_unpacklo_pd(ac, bd); // xa xb xc xd
+  y = _mm256_unpackhi_pd(ac, bd);
+  __m128d const zab = _mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2);
+  __m128d const zcd = _mm_loadh_pd(_mm_load_sd(pc + 2), pd + 2);
+  z = _mm256_insertf128_pd(_mm256_castpd128_pd256(zab), zcd, 1);
+}
+
+/** select_scalar<true> four listed pairs at a time: d in lanes (the same
+ * IEEE subtractions, products and sums, no FMA), the in-range mask, and the
+ * selected lanes stored compressed (each store writes four lanes from slot
+ * n; n <= q, so it stays inside the block's arrays). */
+__attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> const *__restrict blk, int nb,
+                                                         Utils::Vector3d const *__restrict pos, double cut2,
+                                                         std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  constexpr int ahead = 16;
+  __m256d const c2 = _mm256_set1_pd(cut2);
+  int n = 0, q = 0;
+  for (; q + 4 <= nb; q += 4) {
+    if (q + ahead + 4 <= nb)
+      for (int k = 0; k < 4; ++k)
+        __builtin_prefetch(&pos[blk[q + ahead + k][1]]);
+    int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
+    __m256d xi, yi, zi, xj, yj, zj;
+    if (i0 == i3 && i1 == i0 && i2 == i0) { // one run of i (the common case)
+      xi = _mm256_broadcast_sd(&pos[i0][0]), yi = _mm256_broadcast_sd(&pos[i0][1]);
+      zi = _mm256_broadcast_sd(&pos[i0][2]);
+    } else {
+      load4(pos, i0, i1, i2, i3, xi, yi, zi);
+    }
+    load4(pos, blk[q][1], blk[q + 1][1], blk[q + 2][1], blk[q + 3][1], xj, yj, zj);
+    __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
+    __m256d const r2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    // !(r2 >= cut2), true for a NaN
+    int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
+    __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
+    __m256i const prs = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(blk + q));
+    _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(prs, perm));
+    _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
+    _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
+    _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
+    n += std::popcount(static_cast<unsigned>(m));
+  }
+  double const cut2_table[1] = {cut2};
+  return select_scalar<true>(blk, q, nb, pos, nullptr, cut2_table, 1, bij, B, n);
+}
+#endif
+
 } // namespace
+
+int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                      double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b) {
+  if (nt == 1) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+    static bool const avx2 = __builtin_cpu_supports("avx2");
+    if (avx2)
+      return select_avx2_one_type(blk, nb, pos, cut2_table[0], bij, b);
+#endif
+    return select_scalar<true>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
+  }
+  return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
+}
 
 // one case per set of switches: LJ (0, 1, 2) x hat x {none, DPD, +TRANS} (x mass)
 #define MARBLE_BLOCK_CASE(L, H, D, T, M)                                                             \

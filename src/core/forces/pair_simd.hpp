@@ -45,6 +45,15 @@ struct PairBlockSoA {
   alignas(64) double fx[kPairBlock], fy[kPairBlock], fz[kPairBlock];
 };
 
+/** Select the listed pairs blk[0 .. nb) within their type pair's squared
+ * cutoff (@p cut2_table, a * nt + b; a NaN distance is kept: the force check
+ * reports it) and gather them: pair and d = r_i - r_j at the next free slot,
+ * in list order. One pass with no data-dependent branch; with AVX2 four
+ * listed pairs at a time (compare, then a compress by permutation), else
+ * scalar: the same subtractions, the same bits. Returns the number selected. */
+int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                      double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b);
+
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */
 void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b);
