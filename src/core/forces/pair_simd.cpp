@@ -174,22 +174,26 @@ template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
   }
 }
 
+/** Listed pairs prefetched ahead of the select: the list (8 bytes a pair,
+ * ~11 MB for 32 000 LJ atoms) streams from memory; 2 KB ahead gave ~5 % on
+ * the LJ bench (doc/benchmarks.md), prefetching the j positions nothing. */
+constexpr int kListAhead = 256;
+
 /** The scalar select (the reference for the AVX2 one): per listed pair the
  * pair and d are stored at slot n, which advances only for a pair in range.
  * The position of i is loaded once per run of its pairs (the list is built
- * per particle i), those of the j a few pairs ahead are prefetched. */
+ * per particle i). */
 template <bool OneType>
 int select_scalar(std::array<int, 2> const *__restrict blk, int q0, int nb, Utils::Vector3d const *__restrict pos,
                   int const *__restrict typ, double const *__restrict cut2_table, int nt,
                   std::array<int, 2> *__restrict bij, PairBlockSoA &B, int n) {
-  constexpr int ahead = 16; // listed pairs
   double const cut2 = cut2_table[0];
   double *__restrict const dxs = B.dx, *__restrict const dys = B.dy, *__restrict const dzs = B.dz;
   int ci = -1;
   double xi = 0., yi = 0., zi = 0.;
   for (int q = q0; q < nb; ++q) {
-    if (q + ahead < nb)
-      __builtin_prefetch(&pos[blk[q + ahead][1]]);
+    if ((q & 7) == 0)
+      __builtin_prefetch(blk + q + kListAhead); // may point past the list: a prefetch does not fault
     std::array<int, 2> const pr = blk[q];
     int const i = pr[0], j = pr[1];
     if (i != ci) // a new run of pairs of one i (predictable: runs are long)
@@ -242,13 +246,10 @@ __attribute__((target("avx2"), always_inline)) inline void load4(Utils::Vector3d
 __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> const *__restrict blk, int nb,
                                                          Utils::Vector3d const *__restrict pos, double cut2,
                                                          std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
-  constexpr int ahead = 16;
   __m256d const c2 = _mm256_set1_pd(cut2);
   int n = 0, q = 0;
   for (; q + 4 <= nb; q += 4) {
-    if (q + ahead + 4 <= nb)
-      for (int k = 0; k < 4; ++k)
-        __builtin_prefetch(&pos[blk[q + ahead + k][1]]);
+    __builtin_prefetch(blk + q + kListAhead); // may point past the list: a prefetch does not fault
     int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
     __m256d xi, yi, zi, xj, yj, zj;
     if (i0 == i3 && i1 == i0 && i2 == i0) { // one run of i (the common case)
