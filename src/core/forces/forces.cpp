@@ -67,13 +67,10 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
     auto const *const blk = pairs.data() + b0;
     int const n = pair_block_select(blk, nb, pos, typ, cut2_table.data(), nt, bij.data(), B);
     if (dpd) {
-      for (int s = 0; s < n; ++s) {
-        int const i = bij[s][0], j = bij[s][1];
-        B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
-        order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
-        if constexpr (mass)
-          B.m[s] = pair_mass_factor(ps, i, j);
-      }
+      pair_block_gather_dpd(bij.data(), n, vel, pid, B, lo.data(), hi.data(), sign.data());
+      if constexpr (mass)
+        for (int s = 0; s < n; ++s)
+          B.m[s] = pair_mass_factor(ps, bij[s][0], bij[s][1]);
       pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
     pair_block_forces(sp, mass, n, B);

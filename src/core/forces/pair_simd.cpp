@@ -207,6 +207,28 @@ int select_scalar(std::array<int, 2> const *__restrict blk, int q0, int nb, Util
   return n;
 }
 
+int select_scalar_one_type(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, double cut2,
+                           std::array<int, 2> *bij, PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return select_scalar<true>(blk, 0, nb, pos, nullptr, cut2_table, 1, bij, B, 0);
+}
+
+/** pair_block_gather_dpd, scalar, from pair @p s0 on. */
+void gather_dpd_scalar_from(int s0, std::array<int, 2> const *__restrict bij, int n,
+                            Utils::Vector3d const *__restrict vel, int const *__restrict pid, PairBlockSoA &B,
+                            std::uint32_t *__restrict lo, std::uint32_t *__restrict hi, double *__restrict sign) {
+  for (int s = s0; s < n; ++s) {
+    int const i = bij[s][0], j = bij[s][1];
+    B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
+    order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
+  }
+}
+
+void gather_dpd_scalar(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                       PairBlockSoA &B, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
+  gather_dpd_scalar_from(0, bij, n, vel, pid, B, lo, hi, sign);
+}
+
 #ifdef MARBLE_PAIR_SELECT_AVX2
 /** Lane permutation (as 32-bit words) that moves the selected 64-bit lanes of
  * a 4-bit mask to the front, in order. */
@@ -275,6 +297,42 @@ __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> cons
   double const cut2_table[1] = {cut2};
   return select_scalar<true>(blk, q, nb, pos, nullptr, cut2_table, 1, bij, B, n);
 }
+
+/** gather_dpd_scalar four pairs at a time: v_i of a run broadcast, the four
+ * v_j transposed into lanes (the same subtractions), the ids ordered by
+ * unsigned min/max and the sign +1 where id_i < id_j, else -1 (exact). */
+__attribute__((target("avx2"))) void gather_dpd_avx2(std::array<int, 2> const *__restrict bij, int n,
+                                                     Utils::Vector3d const *__restrict vel,
+                                                     int const *__restrict pid, PairBlockSoA &B,
+                                                     std::uint32_t *__restrict lo, std::uint32_t *__restrict hi,
+                                                     double *__restrict sign) {
+  int s = 0;
+  __m128i const one = _mm_set1_epi32(1), two = _mm_set1_epi32(2);
+  for (; s + 4 <= n; s += 4) {
+    int const i0 = bij[s][0], i1 = bij[s + 1][0], i2 = bij[s + 2][0], i3 = bij[s + 3][0];
+    int const j0 = bij[s][1], j1 = bij[s + 1][1], j2 = bij[s + 2][1], j3 = bij[s + 3][1];
+    __m256d xi, yi, zi, xj, yj, zj;
+    if (i0 == i3 && i1 == i0 && i2 == i0) {
+      xi = _mm256_broadcast_sd(&vel[i0][0]), yi = _mm256_broadcast_sd(&vel[i0][1]);
+      zi = _mm256_broadcast_sd(&vel[i0][2]);
+    } else {
+      load4(vel, i0, i1, i2, i3, xi, yi, zi);
+    }
+    load4(vel, j0, j1, j2, j3, xj, yj, zj);
+    _mm256_store_pd(B.vx + s, _mm256_sub_pd(xi, xj));
+    _mm256_store_pd(B.vy + s, _mm256_sub_pd(yi, yj));
+    _mm256_store_pd(B.vz + s, _mm256_sub_pd(zi, zj));
+    __m128i const a = _mm_set_epi32(pid[i3], pid[i2], pid[i1], pid[i0]);
+    __m128i const c = _mm_set_epi32(pid[j3], pid[j2], pid[j1], pid[j0]);
+    __m128i const mn = _mm_min_epu32(a, c), mx = _mm_max_epu32(a, c);
+    // a < c (unsigned): a is the minimum and differs from c
+    __m128i const less = _mm_andnot_si128(_mm_cmpeq_epi32(a, c), _mm_cmpeq_epi32(mn, a));
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(lo + s), mn);
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(hi + s), mx);
+    _mm256_storeu_pd(sign + s, _mm256_cvtepi32_pd(_mm_sub_epi32(_mm_and_si128(less, two), one)));
+  }
+  gather_dpd_scalar_from(s, bij, n, vel, pid, B, lo, hi, sign);
+}
 #endif
 
 } // namespace
@@ -290,6 +348,25 @@ int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d con
     return select_scalar<true>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
   }
   return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
+}
+
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                           PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  static bool const avx2 = __builtin_cpu_supports("avx2");
+  if (avx2)
+    return gather_dpd_avx2(bij, n, vel, pid, b, lo, hi, sign);
+#endif
+  gather_dpd_scalar(bij, n, vel, pid, b, lo, hi, sign);
+}
+
+std::vector<PairSelectPath> pair_select_paths() {
+  std::vector<PairSelectPath> out{{"scalar", &select_scalar_one_type, &gather_dpd_scalar}};
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (__builtin_cpu_supports("avx2"))
+    out.push_back({"avx2", &select_avx2_one_type, &gather_dpd_avx2});
+#endif
+  return out;
 }
 
 // one case per set of switches: LJ (0, 1, 2) x hat x {none, DPD, +TRANS} (x mass)

@@ -7,6 +7,10 @@
 // kernel without a SIMD form works as before (doc/adding-an-interaction.md).
 #include "forces/pair_traversal.hpp"
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 namespace Marble {
 
 /** pair_loop_bit<K>, 0 for a kernel not compiled in. */
@@ -53,6 +57,24 @@ struct PairBlockSoA {
  * scalar: the same subtractions, the same bits. Returns the number selected. */
 int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
                       double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b);
+
+/** The DPD inputs of the selected pairs bij[0 .. n): v = v_i - v_j into @p b
+ * and the ordered ids and noise sign (order_pair_ids) into @p lo, @p hi,
+ * @p sign; with AVX2 four pairs at a time, else scalar: the same bits. */
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                           PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign);
+
+/** Every code path of pair_block_select for one-type scenes (nt = 1) and of
+ * pair_block_gather_dpd this CPU has, by name ("scalar", "avx2"), for the
+ * tests that check that they agree bit for bit. */
+struct PairSelectPath {
+  char const *name;
+  int (*select)(std::array<int, 2> const *, int, Utils::Vector3d const *, double, std::array<int, 2> *,
+                PairBlockSoA &);
+  void (*gather_dpd)(std::array<int, 2> const *, int, Utils::Vector3d const *, int const *, PairBlockSoA &,
+                     std::uint32_t *, std::uint32_t *, double *);
+};
+std::vector<PairSelectPath> pair_select_paths();
 
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */
