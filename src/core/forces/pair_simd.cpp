@@ -175,7 +175,7 @@ template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
 }
 
 /** Listed pairs prefetched ahead of the select: the list (8 bytes a pair,
- * ~11 MB for 32 000 LJ atoms) streams from memory; 2 KB ahead gave ~5 % on
+ * ~11-12 MB for 32 000 LJ atoms) streams from memory; 2 KB ahead gave ~5 % on
  * the LJ bench (doc/benchmarks.md), prefetching the j positions nothing. */
 constexpr int kListAhead = 256;
 
