@@ -179,6 +179,14 @@ template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
  * the LJ bench (doc/benchmarks.md), prefetching the j positions nothing. */
 constexpr int kListAhead = 256;
 
+/** Prefetch the listed pairs kListAhead after @p p. The address may lie past
+ * the list: a prefetch does not fault, and it is formed as an integer (no
+ * out-of-bounds pointer arithmetic). */
+inline void prefetch_ahead(std::array<int, 2> const *p) {
+  __builtin_prefetch(reinterpret_cast<void const *>(reinterpret_cast<std::uintptr_t>(p) +
+                                                    kListAhead * sizeof(std::array<int, 2>)));
+}
+
 /** The scalar select (the reference for the AVX2 one): per listed pair the
  * pair and d are stored at slot n, which advances only for a pair in range.
  * The position of i is loaded once per run of its pairs (the list is built
@@ -193,7 +201,7 @@ int select_scalar(std::array<int, 2> const *__restrict blk, int q0, int nb, Util
   double xi = 0., yi = 0., zi = 0.;
   for (int q = q0; q < nb; ++q) {
     if ((q & 7) == 0)
-      __builtin_prefetch(blk + q + kListAhead); // may point past the list: a prefetch does not fault
+      prefetch_ahead(blk + q);
     std::array<int, 2> const pr = blk[q];
     int const i = pr[0], j = pr[1];
     if (i != ci) // a new run of pairs of one i (predictable: runs are long)
@@ -271,7 +279,7 @@ __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> cons
   __m256d const c2 = _mm256_set1_pd(cut2);
   int n = 0, q = 0;
   for (; q + 4 <= nb; q += 4) {
-    __builtin_prefetch(blk + q + kListAhead); // may point past the list: a prefetch does not fault
+    prefetch_ahead(blk + q);
     int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
     __m256d xi, yi, zi, xj, yj, zj;
     if (i0 == i3 && i1 == i0 && i2 == i0) { // one run of i (the common case)
