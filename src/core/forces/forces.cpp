@@ -26,15 +26,17 @@ namespace {
 
 /** Kernels with a SIMD form (forces/pair_simd.hpp). */
 constexpr unsigned simd_kernels() {
-  return pair_loop_bit_if_compiled<Hat>() | pair_loop_bit_if_compiled<DPDPair>();
+  return pair_loop_bit_if_compiled<LennardJones>() | pair_loop_bit_if_compiled<Hat>() |
+         pair_loop_bit_if_compiled<DPDPair>();
 }
 
 /** The loop of a scene whose list-served type pairs all have the same kernels,
- * each with a SIMD form (simd_scene_params): per block
- * of listed pairs, select those within the cutoff and gather them into
- * structures of arrays (one pass, no branch), draw the noise and compute the
- * forces in SIMD lanes, then add them up in list order (the summation order
- * of the scalar loop). */
+ * each with a SIMD form (simd_scene_params): per block of listed pairs,
+ * select those within the cutoff and gather them into structures of arrays
+ * (pair_block_select), draw the noise and compute the forces in SIMD lanes, then
+ * add them up in list order (the summation order of the scalar loop; the
+ * force on i is summed in registers over a run of pairs of the same i, the
+ * same additions in the same order). */
 void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                     NoiseContext const &th, SimdPairParams const &sp) {
   auto const *__restrict const pos = ps.pos.data();
@@ -49,12 +51,13 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   bool const dpd = sp.dpd;
   // the squared cutoff of each type pair (0 for pairs the list does not serve)
   int const nt = ia.n_types();
-  auto const cut2_table = pair_cut2_table(ia);
-  double const cut2 = nt > 0 ? cut2_table[0] : 0.;
+  auto cut2_table = pair_cut2_table(ia);
+  if (cut2_table.empty())
+    cut2_table.push_back(0.);
   auto const *const typ = ps.type.data();
   auto soa = std::make_unique<PairBlockSoA>();
   PairBlockSoA &B = *soa;
-  alignas(64) std::array<int, kPairBlock> bi, bj, sel;
+  alignas(64) std::array<std::array<int, 2>, kPairBlock> bij;
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
@@ -62,46 +65,28 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
     int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
     auto const *const blk = pairs.data() + b0;
-    // select: the index of each pair within range (one store per listed pair),
-    // then gather the selected pairs (pairs of one i follow each other: the
-    // list is built per particle i)
-    int n = 0;
-    if (nt == 1) {
-      for (int q = 0; q < nb; ++q) {
-        int const i = blk[q][0], j = blk[q][1];
-        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
-        sel[n] = q;
-        // a NaN distance is kept (the force check reports it)
-        n += !(dx * dx + dy * dy + dz * dz >= cut2) ? 1 : 0;
-      }
-    } else {
-      for (int q = 0; q < nb; ++q) {
-        int const i = blk[q][0], j = blk[q][1];
-        double const dx = pos[i][0] - pos[j][0], dy = pos[i][1] - pos[j][1], dz = pos[i][2] - pos[j][2];
-        sel[n] = q;
-        n += !(dx * dx + dy * dy + dz * dz >= cut2_table[typ[i] * nt + typ[j]]) ? 1 : 0;
-      }
-    }
-    for (int s = 0; s < n; ++s) {
-      int const i = blk[sel[s]][0], j = blk[sel[s]][1];
-      bi[s] = i, bj[s] = j;
-      B.dx[s] = pos[i][0] - pos[j][0], B.dy[s] = pos[i][1] - pos[j][1], B.dz[s] = pos[i][2] - pos[j][2];
-    }
+    int const n = pair_block_select(blk, nb, pos, typ, cut2_table.data(), nt, bij.data(), B);
     if (dpd) {
-      for (int s = 0; s < n; ++s) {
-        int const i = bi[s], j = bj[s];
-        B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
-        order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
-        if constexpr (mass)
-          B.m[s] = pair_mass_factor(ps, i, j);
-      }
+      pair_block_gather_dpd(bij.data(), n, vel, pid, B, lo.data(), hi.data(), sign.data());
+      if constexpr (mass)
+        for (int s = 0; s < n; ++s)
+          B.m[s] = pair_mass_factor(ps, bij[s][0], bij[s][1]);
       pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
     pair_block_forces(sp, mass, n, B);
-    for (int s = 0; s < n; ++s) {
-      Vector3d const f{B.fx[s], B.fy[s], B.fz[s]};
-      frc[bi[s]] += f;
-      frc[bj[s]] -= f;
+    // scatter: f_i summed in registers over the run of pairs of one i (no j
+    // of the run is i), f_j subtracted pair by pair, in list order
+    for (int s = 0; s < n;) {
+      int const i = bij[s][0];
+      double fix = frc[i][0], fiy = frc[i][1], fiz = frc[i][2];
+      do {
+        double const fx = B.fx[s], fy = B.fy[s], fz = B.fz[s];
+        fix += fx, fiy += fy, fiz += fz;
+        auto &fj = frc[bij[s][1]];
+        fj[0] -= fx, fj[1] -= fy, fj[2] -= fz;
+        ++s;
+      } while (s < n && bij[s][0] == i);
+      frc[i][0] = fix, frc[i][1] = fiy, frc[i][2] = fiz;
     }
   }
 }

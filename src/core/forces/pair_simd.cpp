@@ -6,12 +6,22 @@
 // both paths do the same IEEE operations, so a trajectory has the same bits on
 // every x86-64 CPU. The arithmetic is that of Hat::force_over_r and
 // DPDPair::force (pair_force.hpp) up to rounding (1/r once per pair instead
-// of the divisions): the same to ~1e-15 relative.
+// of the divisions): the same to ~1e-15 relative. LennardJones::force_over_r
+// with an offset is the scalar kernel's arithmetic; without one the force is
+// computed from 1/r^2 (one division, no root: LAMMPS-style), the same to
+// ~1e-15 relative.
 #include "forces/pair_simd.hpp"
 
 #include "nonbonded/registry.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define MARBLE_PAIR_SELECT_AVX2 1
+#include <immintrin.h>
+#endif
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define MARBLE_PAIR_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
@@ -24,7 +34,14 @@ namespace Marble {
 bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out) {
   out = {};
   unsigned const hat_bit = pair_loop_bit_if_compiled<Hat>(), dpd_bit = pair_loop_bit_if_compiled<DPDPair>();
-  unsigned const handled = hat_bit | dpd_bit;
+  unsigned const lj_bit = pair_loop_bit_if_compiled<LennardJones>();
+  unsigned const handled = hat_bit | dpd_bit | lj_bit;
+  auto const &l = ia.get<LennardJones>(); // reads as off where LENNARD_JONES is not compiled in
+  if ((mask & lj_bit) && l.active) {
+    out.lj = l.offset == 0. ? 1 : 2;
+    out.lj_eps48 = 48. * l.epsilon, out.lj_sig2 = l.sigma * l.sigma;
+    out.lj_cut = l.cutoff, out.lj_off = l.offset, out.lj_min = l.min;
+  }
   auto const &h = ia.get<Hat>(); // reads as off where HAT is not compiled in
   if ((mask & hat_bit) && h.active) {
     out.hat = true;
@@ -81,8 +98,10 @@ namespace {
 
 /** The loop body for one set of switches (hoisted out of the loop so that
  * it has no branch left and vectorises). */
-template <bool Hat, bool Dpd, bool Trans, bool Mass>
+template <int Lj, bool Hat, bool Dpd, bool Trans, bool Mass>
 [[gnu::always_inline]] inline void block_forces(SimdPairParams const &p, int n, PairBlockSoA &b) {
+  double const eps48 = p.lj_eps48, sig2 = p.lj_sig2, lcut = p.lj_cut, loff = p.lj_off, lmin = p.lj_min;
+  double const lcut2 = lcut * lcut, lmin2 = lmin * lmin;
   double const fmax = p.hat_fmax, hcut = p.hat_cut, hoff = p.hat_off;
   double const doff = p.dpd_off, gamma = p.gamma, rc = p.rc, pref = p.pref;
   double const tgamma = p.tgamma, trc = p.trc, tpref = p.tpref;
@@ -97,18 +116,40 @@ template <bool Hat, bool Dpd, bool Trans, bool Mass>
   double const *__restrict const ms = b.m;
   for (int s = 0; s < n; ++s) {
     double const dx = dxs[s], dy = dys[s], dz = dzs[s];
-    double const r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    double const r2 = dx * dx + dy * dy + dz * dz;
+    constexpr bool need_r = Hat || Dpd || Lj == 2;
+    double const r = need_r ? std::sqrt(r2) : 0.;
     // 1/r, 0 at r = 0; a NaN distance stays NaN (the force check reports it).
     // Selects between constants and always-safe divisions: no branch is left.
     double const nz = r != 0. ? 1. : 0.;
-    double const rinv = nz / (r + (1. - nz));
-    double fx = 0., fy = 0., fz = 0.;
+    double const rinv = (Hat || Dpd) ? nz / (r + (1. - nz)) : 0.;
+    double fac = 0.; // the conservative kernels' force / r, in kernel-list order (LJ, hat)
+    if constexpr (Lj == 1) {
+      // LennardJones::force_over_r at offset 0 from r^2: inside min < r < cutoff
+      // (a NaN distance is inside: it stays NaN), 1/r^2 of 1 outside
+      double const in = (!(r2 >= lcut2) ? 1. : 0.) * (!(r2 <= lmin2) ? 1. : 0.);
+      double const r2inv = 1. / (in * r2 + (1. - in));
+      double const q2 = sig2 * r2inv;
+      double const q6 = q2 * q2 * q2;
+      fac = in * (eps48 * q6 * (q6 - 0.5) * r2inv);
+    } else if constexpr (Lj == 2) {
+      // the scalar kernel's operations, roff = r - offset and roff * r of 1 outside
+      double const roff = r - loff;
+      double const in = (!(roff >= lcut) ? 1. : 0.) * (!(roff <= lmin) ? 1. : 0.);
+      double const rs = in * roff + (1. - in), rr = in * r + (1. - in);
+      double const q2 = sig2 / (rs * rs);
+      double const q6 = q2 * q2 * q2;
+      fac = in * (eps48 * q6 * (q6 - 0.5) / (rs * rr));
+    }
     if constexpr (Hat) {
       double const x = r - hoff;
       double const in = !(x >= hcut) ? 1. : 0.;
-      double const fac = in * (fmax * (1. - x / hcut) * rinv);
-      fx = fac * dx, fy = fac * dy, fz = fac * dz;
+      double const fh = in * (fmax * (1. - x / hcut) * rinv);
+      fac = Lj != 0 ? fac + fh : fh;
     }
+    double fx = 0., fy = 0., fz = 0.;
+    if constexpr (Lj != 0 || Hat)
+      fx = fac * dx, fy = fac * dy, fz = fac * dz;
     if constexpr (Dpd) {
       double const ex = dx * rinv, ey = dy * rinv, ez = dz * rinv;
       double const vx = vxs[s], vy = vys[s], vz = vzs[s];
@@ -133,26 +174,247 @@ template <bool Hat, bool Dpd, bool Trans, bool Mass>
   }
 }
 
+/** Listed pairs prefetched ahead of the select: the list (8 bytes a pair,
+ * ~11-12 MB for 32 000 LJ atoms) streams from memory; 2 KB ahead gave ~5 % on
+ * the LJ bench (doc/benchmarks.md), prefetching the j positions nothing. */
+constexpr int kListAhead = 256;
+
+/** Prefetch the listed pairs kListAhead after @p p. The address may lie past
+ * the list: a prefetch does not fault, and it is formed as an integer (no
+ * out-of-bounds pointer arithmetic). */
+inline void prefetch_ahead(std::array<int, 2> const *p) {
+  __builtin_prefetch(reinterpret_cast<void const *>(reinterpret_cast<std::uintptr_t>(p) +
+                                                    kListAhead * sizeof(std::array<int, 2>)));
+}
+
+/** The scalar select (the reference for the AVX2 one): per listed pair the
+ * pair and d are stored at slot n, which advances only for a pair in range.
+ * The position of i is loaded once per run of its pairs (the list is built
+ * per particle i). */
+template <bool OneType>
+int select_scalar(std::array<int, 2> const *__restrict blk, int q0, int nb, Utils::Vector3d const *__restrict pos,
+                  int const *__restrict typ, double const *__restrict cut2_table, int nt,
+                  std::array<int, 2> *__restrict bij, PairBlockSoA &B, int n) {
+  double const cut2 = cut2_table[0];
+  double *__restrict const dxs = B.dx, *__restrict const dys = B.dy, *__restrict const dzs = B.dz;
+  int ci = -1;
+  double xi = 0., yi = 0., zi = 0.;
+  for (int q = q0; q < nb; ++q) {
+    if ((q & 7) == 0)
+      prefetch_ahead(blk + q);
+    std::array<int, 2> const pr = blk[q];
+    int const i = pr[0], j = pr[1];
+    if (i != ci) // a new run of pairs of one i (predictable: runs are long)
+      ci = i, xi = pos[i][0], yi = pos[i][1], zi = pos[i][2];
+    double const dx = xi - pos[j][0], dy = yi - pos[j][1], dz = zi - pos[j][2];
+    bij[n] = pr;
+    dxs[n] = dx, dys[n] = dy, dzs[n] = dz;
+    double const c2 = OneType ? cut2 : cut2_table[typ[i] * nt + typ[j]];
+    n += !(dx * dx + dy * dy + dz * dz >= c2) ? 1 : 0;
+  }
+  return n;
+}
+
+int select_scalar_one_type(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, double cut2,
+                           std::array<int, 2> *bij, PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return select_scalar<true>(blk, 0, nb, pos, nullptr, cut2_table, 1, bij, B, 0);
+}
+
+/** pair_block_gather_dpd, scalar, from pair @p s0 on. */
+void gather_dpd_scalar_from(int s0, std::array<int, 2> const *__restrict bij, int n,
+                            Utils::Vector3d const *__restrict vel, int const *__restrict pid, PairBlockSoA &B,
+                            std::uint32_t *__restrict lo, std::uint32_t *__restrict hi, double *__restrict sign) {
+  for (int s = s0; s < n; ++s) {
+    int const i = bij[s][0], j = bij[s][1];
+    B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
+    order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
+  }
+}
+
+void gather_dpd_scalar(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                       PairBlockSoA &B, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
+  gather_dpd_scalar_from(0, bij, n, vel, pid, B, lo, hi, sign);
+}
+
+#ifdef MARBLE_PAIR_SELECT_AVX2
+/** Lane permutation (as 32-bit words) that moves the selected 64-bit lanes of
+ * a 4-bit mask to the front, in order. */
+struct CompressTable {
+  alignas(32) std::int32_t idx[16][8];
+  constexpr CompressTable() : idx{} {
+    for (int m = 0; m < 16; ++m) {
+      int k = 0;
+      for (int l = 0; l < 4; ++l)
+        if (m & (1 << l))
+          idx[m][2 * k] = 2 * l, idx[m][2 * k + 1] = 2 * l + 1, ++k;
+      for (; k < 4; ++k)
+        idx[m][2 * k] = 0, idx[m][2 * k + 1] = 1;
+    }
+  }
+};
+constexpr CompressTable kCompress{};
+
+/** (x, y, z) of four particles as three vectors of their x, y and z. */
+__attribute__((target("avx2"), always_inline)) inline void load4(Utils::Vector3d const *__restrict pos, int a,
+                                                                  int b, int c, int d, __m256d &x, __m256d &y,
+                                                                  __m256d &z) {
+  double const *pa = pos[a].data(), *pb = pos[b].data(), *pc = pos[c].data(), *pd = pos[d].data();
+  __m256d const ac = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(pa)), _mm_loadu_pd(pc), 1);
+  __m256d const bd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(pb)), _mm_loadu_pd(pd), 1);
+  x = _mm256_unpacklo_pd(ac, bd); // xa xb xc xd
+  y = _mm256_unpackhi_pd(ac, bd);
+  __m128d const zab = _mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2);
+  __m128d const zcd = _mm_loadh_pd(_mm_load_sd(pc + 2), pd + 2);
+  z = _mm256_insertf128_pd(_mm256_castpd128_pd256(zab), zcd, 1);
+}
+
+/** select_scalar<true> four listed pairs at a time: d in lanes (the same
+ * IEEE subtractions, products and sums, no FMA), the in-range mask, and the
+ * selected lanes stored compressed (each store writes four lanes from slot
+ * n; n <= q, so it stays inside the block's arrays). */
+__attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> const *__restrict blk, int nb,
+                                                         Utils::Vector3d const *__restrict pos, double cut2,
+                                                         std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  __m256d const c2 = _mm256_set1_pd(cut2);
+  int n = 0, q = 0;
+  for (; q + 4 <= nb; q += 4) {
+    prefetch_ahead(blk + q);
+    int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
+    __m256d xi, yi, zi, xj, yj, zj;
+    if (i0 == i3 && i1 == i0 && i2 == i0) { // one run of i (the common case)
+      xi = _mm256_broadcast_sd(&pos[i0][0]), yi = _mm256_broadcast_sd(&pos[i0][1]);
+      zi = _mm256_broadcast_sd(&pos[i0][2]);
+    } else {
+      load4(pos, i0, i1, i2, i3, xi, yi, zi);
+    }
+    load4(pos, blk[q][1], blk[q + 1][1], blk[q + 2][1], blk[q + 3][1], xj, yj, zj);
+    __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
+    __m256d const r2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    // !(r2 >= cut2), true for a NaN
+    int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
+    __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
+    __m256i const prs = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(blk + q));
+    _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(prs, perm));
+    _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
+    _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
+    _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
+    n += std::popcount(static_cast<unsigned>(m));
+  }
+  double const cut2_table[1] = {cut2};
+  return select_scalar<true>(blk, q, nb, pos, nullptr, cut2_table, 1, bij, B, n);
+}
+
+/** gather_dpd_scalar four pairs at a time: v_i of a run broadcast, the four
+ * v_j transposed into lanes (the same subtractions), the ids ordered by
+ * unsigned min/max and the sign +1 where id_i < id_j, else -1 (exact). */
+__attribute__((target("avx2"))) void gather_dpd_avx2(std::array<int, 2> const *__restrict bij, int n,
+                                                     Utils::Vector3d const *__restrict vel,
+                                                     int const *__restrict pid, PairBlockSoA &B,
+                                                     std::uint32_t *__restrict lo, std::uint32_t *__restrict hi,
+                                                     double *__restrict sign) {
+  int s = 0;
+  __m128i const one = _mm_set1_epi32(1), two = _mm_set1_epi32(2);
+  for (; s + 4 <= n; s += 4) {
+    int const i0 = bij[s][0], i1 = bij[s + 1][0], i2 = bij[s + 2][0], i3 = bij[s + 3][0];
+    int const j0 = bij[s][1], j1 = bij[s + 1][1], j2 = bij[s + 2][1], j3 = bij[s + 3][1];
+    __m256d xi, yi, zi, xj, yj, zj;
+    if (i0 == i3 && i1 == i0 && i2 == i0) {
+      xi = _mm256_broadcast_sd(&vel[i0][0]), yi = _mm256_broadcast_sd(&vel[i0][1]);
+      zi = _mm256_broadcast_sd(&vel[i0][2]);
+    } else {
+      load4(vel, i0, i1, i2, i3, xi, yi, zi);
+    }
+    load4(vel, j0, j1, j2, j3, xj, yj, zj);
+    _mm256_store_pd(B.vx + s, _mm256_sub_pd(xi, xj));
+    _mm256_store_pd(B.vy + s, _mm256_sub_pd(yi, yj));
+    _mm256_store_pd(B.vz + s, _mm256_sub_pd(zi, zj));
+    __m128i const a = _mm_set_epi32(pid[i3], pid[i2], pid[i1], pid[i0]);
+    __m128i const c = _mm_set_epi32(pid[j3], pid[j2], pid[j1], pid[j0]);
+    __m128i const mn = _mm_min_epu32(a, c), mx = _mm_max_epu32(a, c);
+    // a < c (unsigned): a is the minimum and differs from c
+    __m128i const less = _mm_andnot_si128(_mm_cmpeq_epi32(a, c), _mm_cmpeq_epi32(mn, a));
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(lo + s), mn);
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(hi + s), mx);
+    _mm256_storeu_pd(sign + s, _mm256_cvtepi32_pd(_mm_sub_epi32(_mm_and_si128(less, two), one)));
+  }
+  gather_dpd_scalar_from(s, bij, n, vel, pid, B, lo, hi, sign);
+}
+#endif
+
 } // namespace
+
+int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                      double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b) {
+  if (nt == 1) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+    static bool const avx2 = __builtin_cpu_supports("avx2");
+    if (avx2)
+      return select_avx2_one_type(blk, nb, pos, cut2_table[0], bij, b);
+#endif
+    return select_scalar<true>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
+  }
+  return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
+}
+
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                           PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  static bool const avx2 = __builtin_cpu_supports("avx2");
+  if (avx2)
+    return gather_dpd_avx2(bij, n, vel, pid, b, lo, hi, sign);
+#endif
+  gather_dpd_scalar(bij, n, vel, pid, b, lo, hi, sign);
+}
+
+std::vector<PairSelectPath> pair_select_paths() {
+  std::vector<PairSelectPath> out{{"scalar", &select_scalar_one_type, &gather_dpd_scalar}};
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (__builtin_cpu_supports("avx2"))
+    out.push_back({"avx2", &select_avx2_one_type, &gather_dpd_avx2});
+#endif
+  return out;
+}
+
+// one case per set of switches: LJ (0, 1, 2) x hat x {none, DPD, +TRANS} (x mass)
+#define MARBLE_BLOCK_CASE(L, H, D, T, M)                                                             \
+  case 16u * (L) + 1u * (H) + 2u * (D) + 4u * (T) + 8u * (M):                                      \
+    return block_forces<L, H, D, T, M>(p, n, b);
+#define MARBLE_BLOCK_CASES_DPD(L, H, M)                                                              \
+  MARBLE_BLOCK_CASE(L, H, true, false, M)                                                            \
+  MARBLE_BLOCK_CASE(L, H, true, true, M)
+#if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
+#define MARBLE_BLOCK_CASES(L, H)                                                                     \
+  MARBLE_BLOCK_CASES_DPD(L, H, false)                                                                \
+  MARBLE_BLOCK_CASES_DPD(L, H, true)
+#else
+#define MARBLE_BLOCK_CASES(L, H) MARBLE_BLOCK_CASES_DPD(L, H, false)
+#endif
 
 MARBLE_PAIR_SIMD_CLONES
 void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
-  unsigned const sw = (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) | (p.dpd && p.trans ? 4u : 0u) |
-                      (p.dpd && mass ? 8u : 0u);
+  unsigned const sw = 16u * static_cast<unsigned>(p.lj) | (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) |
+                      (p.dpd && p.trans ? 4u : 0u) | (p.dpd && mass ? 8u : 0u);
   switch (sw) {
-  case 1: return block_forces<true, false, false, false>(p, n, b);
-  case 2: return block_forces<false, true, false, false>(p, n, b);
-  case 3: return block_forces<true, true, false, false>(p, n, b);
-  case 6: return block_forces<false, true, true, false>(p, n, b);
-  case 7: return block_forces<true, true, true, false>(p, n, b);
-  case 10: return block_forces<false, true, false, true>(p, n, b);
-  case 11: return block_forces<true, true, false, true>(p, n, b);
-  case 14: return block_forces<false, true, true, true>(p, n, b);
-  case 15: return block_forces<true, true, true, true>(p, n, b);
+    MARBLE_BLOCK_CASE(0, true, false, false, false)
+    MARBLE_BLOCK_CASE(1, false, false, false, false)
+    MARBLE_BLOCK_CASE(1, true, false, false, false)
+    MARBLE_BLOCK_CASE(2, false, false, false, false)
+    MARBLE_BLOCK_CASE(2, true, false, false, false)
+    MARBLE_BLOCK_CASES(0, false)
+    MARBLE_BLOCK_CASES(0, true)
+    MARBLE_BLOCK_CASES(1, false)
+    MARBLE_BLOCK_CASES(1, true)
+    MARBLE_BLOCK_CASES(2, false)
+    MARBLE_BLOCK_CASES(2, true)
   default:
     for (int s = 0; s < n; ++s)
       b.fx[s] = b.fy[s] = b.fz[s] = 0.;
   }
 }
+#undef MARBLE_BLOCK_CASES
+#undef MARBLE_BLOCK_CASES_DPD
+#undef MARBLE_BLOCK_CASE
 
 } // namespace Marble

@@ -1,11 +1,15 @@
 #pragma once
 // The pair forces of a block of pairs in SIMD lanes (forces/pair_simd.cpp), for
-// the common kernel sets: the Groot-Warren hat and the DPD pair thermostat
-// (weight function 0, or 1 with k = 1; TRANS_DPD; the DPD_MASS_* factors;
-// offsets). forces.cpp takes this path where every type pair of the scene is
+// the common kernel sets: Lennard-Jones (any shift, offset and min), the
+// Groot-Warren hat and the DPD pair thermostat (weight function 0, or 1 with
+// k = 1; TRANS_DPD; the DPD_MASS_* factors; offsets), alone or together. forces.cpp takes this path where every type pair of the scene is
 // served by it, the generic scalar loop (pair_force.hpp) everywhere else, so a
 // kernel without a SIMD form works as before (doc/adding-an-interaction.md).
 #include "forces/pair_traversal.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
 
 namespace Marble {
 
@@ -19,6 +23,10 @@ template <class K> constexpr unsigned pair_loop_bit_if_compiled() {
 
 /** One type pair's kernels in the form the SIMD block takes (off: 0 gain). */
 struct SimdPairParams {
+  // Lennard-Jones: 0 off, 1 offset 0 (computed from r^2 alone: no root),
+  // 2 with an offset (the scalar kernel's arithmetic)
+  int lj = 0;
+  double lj_eps48 = 0., lj_sig2 = 0., lj_cut = 0., lj_off = 0., lj_min = 0.;
   bool hat = false;
   double hat_fmax = 0., hat_cut = 1., hat_off = 0.;
   bool dpd = false;
@@ -40,6 +48,33 @@ struct PairBlockSoA {
   alignas(64) double m[kPairBlock];
   alignas(64) double fx[kPairBlock], fy[kPairBlock], fz[kPairBlock];
 };
+
+/** Select the listed pairs blk[0 .. nb) within their type pair's squared
+ * cutoff (@p cut2_table, a * nt + b; a NaN distance is kept: the force check
+ * reports it) and gather them: pair and d = r_i - r_j at the next free slot,
+ * in list order. One pass with no data-dependent branch; with AVX2 four
+ * listed pairs at a time (compare, then a compress by permutation), else
+ * scalar: the same subtractions, the same bits. Returns the number selected. */
+int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                      double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b);
+
+/** The DPD inputs of the selected pairs bij[0 .. n): v = v_i - v_j into @p b
+ * and the ordered ids and noise sign (order_pair_ids) into @p lo, @p hi,
+ * @p sign; with AVX2 four pairs at a time, else scalar: the same bits. */
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+                           PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign);
+
+/** Every code path of pair_block_select for one-type scenes (nt = 1) and of
+ * pair_block_gather_dpd this CPU has, by name ("scalar", "avx2"), for the
+ * tests that check that they agree bit for bit. */
+struct PairSelectPath {
+  char const *name;
+  int (*select)(std::array<int, 2> const *, int, Utils::Vector3d const *, double, std::array<int, 2> *,
+                PairBlockSoA &);
+  void (*gather_dpd)(std::array<int, 2> const *, int, Utils::Vector3d const *, int const *, PairBlockSoA &,
+                     std::uint32_t *, std::uint32_t *, double *);
+};
+std::vector<PairSelectPath> pair_select_paths();
 
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */
