@@ -1,6 +1,7 @@
 #include "cells/CellSystem.hpp"
 
 #include "utils/errors.hpp"
+#include "utils/cpu.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +88,10 @@ int axis_coord(double x, double dl, int p) {
   return static_cast<int>(std::clamp(c, 0., static_cast<double>(p - 1)));
 }
 } // namespace
+
+int CellSystem::rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords) {
+  return rank_of(grid, coords);
+}
 
 int CellSystem::owner_rank(Vector3d const &pos, BoxGeometry const &box) const {
   if (!parallel())
@@ -183,7 +188,7 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   }
   for (int c = 0; c <= g.n_total(); ++c)
     count[c + 1] += count[c];
-  auto &order = m_scratch_ghost_begin;
+  auto &order = m_scratch_ghost_begin; // free here: build_pairs fills it after the sort
   order.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
     order[count[cell[i]]++] = i;
@@ -415,10 +420,6 @@ scan_candidates_avx2(int i, double const *pi, double range2, CandidateRange cons
   return n;
 }
 
-bool cpu_has_avx2() {
-  static bool const has = __builtin_cpu_supports("avx2");
-  return has;
-}
 #endif
 
 } // namespace
@@ -503,7 +504,7 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   for (int d = 0; d < 3; ++d)
     eps[d] = 1e-9 * (std::abs(g.lo[d]) + g.size[d] * g.ext[d]);
 #ifdef MARBLE_CELLS_AVX2
-  bool const avx2 = cpu_has_avx2();
+  bool const avx2 = Utils::cpu_has_avx2();
 #endif
   // The list keeps its size between rebuilds (no zero fill of the whole
   // buffer): it grows only when a particle's candidates might not fit.

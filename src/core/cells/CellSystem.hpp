@@ -95,6 +95,8 @@ public:
   }
   /** Ranks per axis: the most cubic factorisation of the rank count for @p box. */
   std::array<int, 3> node_grid(BoxGeometry const &box) const;
+  /** Rank of the domain at @p coords of the node grid @p grid. */
+  static int rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords);
   /** Rank owning the (folded) position @p pos. */
   int owner_rank(Utils::Vector3d const &pos, BoxGeometry const &box) const;
   /** Lower corner and size of this rank's domain. */

@@ -8,6 +8,7 @@
 // Integer arithmetic and one exact int -> double conversion: every path gives
 // the same bits as the scalar Utils::pair_uniform3 (testsuite/core/philox4x32_test.cpp).
 #include "forces/pair_noise.hpp"
+#include "utils/cpu.hpp"
 
 #include <algorithm>
 
@@ -138,8 +139,7 @@ using NoiseFn = PairNoiseFn;
 
 bool have_avx2() {
 #ifdef MARBLE_PAIR_NOISE_AVX2
-  static bool const yes = __builtin_cpu_supports("avx2");
-  return yes;
+  return Utils::cpu_has_avx2();
 #else
   return false;
 #endif

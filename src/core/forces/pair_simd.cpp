@@ -13,6 +13,7 @@
 #include "forces/pair_simd.hpp"
 
 #include "nonbonded/registry.hpp"
+#include "utils/cpu.hpp"
 
 #include <bit>
 #include <cmath>
@@ -349,8 +350,7 @@ int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d con
                       double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b) {
   if (nt == 1) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
-    static bool const avx2 = __builtin_cpu_supports("avx2");
-    if (avx2)
+    if (Utils::cpu_has_avx2())
       return select_avx2_one_type(blk, nb, pos, cut2_table[0], bij, b);
 #endif
     return select_scalar<true>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
@@ -361,8 +361,7 @@ int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d con
 void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
                            PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
-  static bool const avx2 = __builtin_cpu_supports("avx2");
-  if (avx2)
+  if (Utils::cpu_has_avx2())
     return gather_dpd_avx2(bij, n, vel, pid, b, lo, hi, sign);
 #endif
   gather_dpd_scalar(bij, n, vel, pid, b, lo, hi, sign);
@@ -371,7 +370,7 @@ void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d
 std::vector<PairSelectPath> pair_select_paths() {
   std::vector<PairSelectPath> out{{"scalar", &select_scalar_one_type, &gather_dpd_scalar}};
 #ifdef MARBLE_PAIR_SELECT_AVX2
-  if (__builtin_cpu_supports("avx2"))
+  if (Utils::cpu_has_avx2())
     out.push_back({"avx2", &select_avx2_one_type, &gather_dpd_avx2});
 #endif
   return out;

@@ -151,8 +151,8 @@ void Fluid::collide(System &s) {
 
   // cells shared between ranks: candidates are the slabs of cells next to
   // every domain face (the cell holding the face and its two neighbours);
-  // for each candidate the ranks whose domain it overlaps (touch_ranks, the
-  // same answer on every rank). A cell touched by this rank and another one
+  // for each candidate the ranks whose domain it overlaps (from the geometry
+  // alone: the same answer on every rank). A cell touched by this rank and another one
   // gets a slot in `shared` (ascending g); its sums are exchanged with the
   // other touching ranks only (neighbour exchange) and added in rank order,
   // so every touching rank gets the same bits.
@@ -235,7 +235,7 @@ void Fluid::collide(System &s) {
       for (int a : slabs_of[0][k0])
         for (int b : slabs_of[1][k1])
           for (int cc : slabs_of[2][k2])
-            ranks.push_back((a * ng[1] + b) * ng[2] + cc);
+            ranks.push_back(CellSystem::rank_at(ng, {a, b, cc}));
       std::sort(ranks.begin(), ranks.end());
       bool const mine = std::binary_search(ranks.begin(), ranks.end(), me);
       if (!mine) {
