@@ -18,24 +18,35 @@ namespace Marble {
 
 using Utils::Vector3d;
 
-// v += half_dt F/m (and omega += half_dt tau/I).
-void System::kick(double half_dt) {
-  for (int i = 0; i < m_ps.n_local(); ++i) {
-    double const a = half_dt / m_ps.get_mass(i);
+// v += half_dt F/m (and omega += half_dt tau/I) of local i; returns half_dt/m.
+double System::kick_one(int i, double half_dt) {
+  double const a = half_dt / m_ps.get_mass(i);
+  auto &v = m_ps.v[i];
+  auto const &f = m_ps.f[i];
+  if (!m_ps.has_fixed(i)) {
     for (int d = 0; d < 3; ++d)
-      m_ps.v[i][d] = m_ps.is_fixed(i, d) ? 0. : m_ps.v[i][d] + a * m_ps.f[i][d];
-#ifdef ROTATION
-    if (m_ps.rotation[i])
-      m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
-#endif
+      v[d] = v[d] + a * f[d];
+  } else {
+    for (int d = 0; d < 3; ++d)
+      v[d] = m_ps.is_fixed(i, d) ? 0. : v[d] + a * f[d];
   }
+#ifdef ROTATION
+  if (m_ps.rotation[i])
+    m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
+#endif
+  return a;
+}
+
+void System::kick(double half_dt) {
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    kick_one(i, half_dt);
 }
 
 // Half kick + drift, refusing a step that moves a particle farther than the
 // skin or makes it non-finite: the step is checked first (on every rank) and
 // then done, so a refused step changes nothing. Two sweeps over the locals:
-// (1) [the previous step's closing half kick, when run_md deferred it: the
-// same arithmetic as kick()] and the check; (2) the half kick and drift, and
+// (1) [the previous step's closing half kick, when run_md deferred it:
+// kick_one] and the check; (2) the half kick and drift, and
 // the Verlet-list displacement test on the new positions (the test
 // ensure_lists would otherwise do in a third sweep).
 void System::drift_checked(bool kick_first) {
@@ -50,20 +61,9 @@ void System::drift_checked(bool kick_first) {
   // kick, the check and the drift)
   m_half_dt_over_m.resize(static_cast<std::size_t>(n));
   double *const am = m_half_dt_over_m.data();
-#ifdef EXTERNAL_FORCE
-  auto const *const fix = m_ps.fix.data();
-#endif
-  auto fixed_any = [&](int i) {
-#ifdef EXTERNAL_FORCE
-    return fix[i] != 0;
-#else
-    (void)i;
-    return false;
-#endif
-  };
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
     double const a = am[i];
-    if (!fixed_any(i)) {
+    if (!m_ps.has_fixed(i)) {
       for (int d = 0; d < 3; ++d) {
         dv[d] = a * f[i][d];
         dx[d] = dt * (v[i][d] + dv[d]);
@@ -80,19 +80,7 @@ void System::drift_checked(bool kick_first) {
   double bad_disp2 = 0.;
   if (kick_first) {
     for (int i = 0; i < n; ++i) {
-      double const a = half_dt / m_ps.get_mass(i);
-      am[i] = a;
-      if (!fixed_any(i)) {
-        for (int d = 0; d < 3; ++d)
-          v[i][d] = v[i][d] + a * f[i][d];
-      } else {
-        for (int d = 0; d < 3; ++d)
-          v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
-      }
-#ifdef ROTATION
-      if (m_ps.rotation[i])
-        m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
-#endif
+      am[i] = kick_one(i, half_dt);
       Vector3d dv, dx;
       step_of(i, dv, dx);
       double const disp2 = dx.norm2();

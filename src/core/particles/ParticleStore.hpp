@@ -92,6 +92,16 @@ public:
 #endif
   }
 
+  /** Some coordinate of local particle @p i is fixed. */
+  bool has_fixed(int i) const {
+#ifdef EXTERNAL_FORCE
+    return fix[i] != 0;
+#else
+    (void)i;
+    return false;
+#endif
+  }
+
   /** Local index of particle @p pid, or -1. */
   int index_of(int pid) const {
     return (pid >= 0 && pid < static_cast<int>(m_index.size())) ? m_index[pid] : -1;

@@ -235,6 +235,7 @@ private:
   }
   void rebuild_if_needed();
   void kick(double half_dt);
+  double kick_one(int i, double half_dt);
   /** Half kick + drift of one step, refused (nothing moved) if a particle
    * would move farther than the skin. @p kick_first: first do the previous
    * step's closing half kick (deferred by run_md) in the same sweep. */
