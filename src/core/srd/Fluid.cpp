@@ -48,6 +48,9 @@ struct Hit {
   Vector3d d, v;
 };
 static_assert(std::is_trivially_copyable_v<Hit>);
+// Rule `rough`: the fraction of the relative tangential velocity kept, 1 - 2K
+// with K = chi/(1 + chi), chi = 2/5 (a uniform sphere).
+constexpr double kRoughKeep = 1. - 2. * (0.4 / 1.4);
 } // namespace
 
 void Fluid::check_geometry(BoxGeometry const &box, double dt) {
@@ -399,8 +402,7 @@ void Fluid::stream(System &s, double dt) {
   if (s.comm().parallel())
     hits = s.comm().allgatherv(hits);
   std::sort(hits.begin(), hits.end(), [](Hit const &a, Hit const &b) { return a.pid < b.pid; });
-  std::vector<Vector3d> V(cols.size()), W(cols.size()), dP(cols.size()), dL(cols.size()), dP_late(cols.size()),
-      dL_late(cols.size());
+  std::vector<Vector3d> V(cols.size()), W(cols.size()), dP(cols.size()), dP_late(cols.size()), dL_late(cols.size());
   for (std::size_t j = 0; j < cols.size(); ++j)
     V[j] = cols[j].V, W[j] = cols[j].W;
   double const m = m_p.mass, kT = m_p.kT;
@@ -442,8 +444,7 @@ void Fluid::stream(System &s, double dt) {
       } else if (b.rule == BoundaryRule::bounce_back) {
         J = (2. * un / inv_mn) * nrm + (2. / inv_mt) * ut;
       } else if (b.rule == BoundaryRule::rough) {
-        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
-        double const cc = 1. - 2. * K, st = std::sqrt((1. - cc * cc) * kT * inv_mt);
+        double const cc = kRoughKeep, st = std::sqrt((1. - cc * cc) * kT * inv_mt);
         auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
         Vector3d const ut2 = cc * ut + (st * g[0]) * t1 + (st * g[1]) * t2;
         J = (2. * un / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
@@ -468,8 +469,7 @@ void Fluid::stream(System &s, double dt) {
         // mean tangential transfer of a rough-sphere collision (fraction 2K
         // of the relative tangential velocity reversed); the rest redrawn
         // from the Maxwellian so the rule keeps detailed balance
-        constexpr double K = 0.4 / 1.4; // chi/(1 + chi), chi = 2/5
-        double const cc = 1. - 2. * K, s_noise = std::sqrt(1. - cc * cc) * sig;
+        double const cc = kRoughKeep, s_noise = std::sqrt(1. - cc * cc) * sig;
         auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
         Vector3d const vr = v0 - vloc;
         Vector3d const vr_n = (vr * nrm) * nrm;
@@ -482,7 +482,6 @@ void Fluid::stream(System &s, double dt) {
     }
     Vector3d const Lj = cross(arm, J);
     dP[h.j] += J;
-    dL[h.j] += Lj;
     if (b.coupling == Coupling::seed003) { // applied at the end of the step
       dP_late[h.j] += J;
       dL_late[h.j] += Lj;
