@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -51,6 +52,9 @@ static_assert(std::is_trivially_copyable_v<Hit>);
 // Rule `rough`: the fraction of the relative tangential velocity kept, 1 - 2K
 // with K = chi/(1 + chi), chi = 2/5 (a uniform sphere).
 constexpr double kRoughKeep = 1. - 2. * (0.4 / 1.4);
+// A particle inside by no more than round-off (an event bounce at the end of
+// a step leaves it on the surface) is not "inside".
+bool deep_inside(double d2, double r) { return d2 < r * r * (1. - 1e-12); }
 } // namespace
 
 void Fluid::check_geometry(BoxGeometry const &box, double dt) {
@@ -191,7 +195,7 @@ int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
       bool inside = false;
       for (auto const &c : cols) {
         auto const b = boundary(c.type, type[i]);
-        if (b.active && box.get_mi_vector(pos[i], c.R).norm2() < b.radius * b.radius) {
+        if (b.active && deep_inside(box.get_mi_vector(pos[i], c.R).norm2(), b.radius)) {
           inside = true;
           break;
         }
@@ -288,6 +292,67 @@ int Fluid::prepare(System &s) {
   return relocate_overlapping(s, 0x5eed0000ull + s.step());
 }
 
+namespace {
+// A bounce with the `pair` coupling (doc/srd.md, "Finite colloid mass"): the
+// rule acts on the relative velocity u at the contact point; an impulse J
+// (on the colloid, -J on the particle) changes it by -J_n/mu_n (normal) and
+// -J_t/mu_t (tangential), 1/mu_n = 1/m + 1/M, 1/mu_t = 1/m + 1/M + a^2/I,
+// and the pair's kinetic energy has the part u_n^2 mu_n/2 + u_t^2 mu_t/2 in
+// these directions: drawing u' from the flux-weighted Maxwellian with these
+// masses keeps the pair's Maxwellian. Returns J and the particle's new
+// velocity. The noise is keyed by (seed, step, pid, k0/k1).
+struct PairBounce {
+  Vector3d J, vn;
+};
+PairBounce pair_rule(BoundaryParams const &b, double m, double M, double I, Vector3d const &V,
+                     Vector3d const &W, Vector3d const &nrm, Vector3d const &v0, double kT,
+                     std::uint64_t seed, std::uint64_t step, std::uint64_t pid, std::uint64_t k0,
+                     std::uint64_t k1) {
+  Vector3d const arm = b.radius * nrm;
+  Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+  t1 *= 1. / t1.norm();
+  Vector3d const t2 = cross(nrm, t1);
+  double const inv_mn = 1. / m + 1. / M;
+  double const inv_mt = inv_mn + (I > 0. ? b.radius * b.radius / I : 0.);
+  Vector3d const u = v0 - (V + cross(W, arm));
+  double const un = u * nrm;
+  Vector3d const ut = u - un * nrm;
+  Vector3d J;
+  if (b.rule == BoundaryRule::stochastic) {
+    auto const g = gauss4(seed, Utils::RNGSalt::srd_wall, step, pid, k0);
+    auto const x = Utils::philox_4x64(seed, Utils::RNGSalt::srd_wall, step, pid, k1);
+    double const un2 = std::sqrt(kT * inv_mn) * std::sqrt(-2. * std::log(unit_open0(x[0])));
+    double const st = std::sqrt(kT * inv_mt);
+    Vector3d const ut2 = (st * g[0]) * t1 + (st * g[1]) * t2;
+    J = ((un - un2) / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
+  } else if (b.rule == BoundaryRule::bounce_back) {
+    J = (2. * un / inv_mn) * nrm + (2. / inv_mt) * ut;
+  } else if (b.rule == BoundaryRule::rough) {
+    double const cc = kRoughKeep, st = std::sqrt((1. - cc * cc) * kT * inv_mt);
+    auto const g = gauss4(seed, Utils::RNGSalt::srd_wall, step, pid, k0);
+    Vector3d const ut2 = cc * ut + (st * g[0]) * t1 + (st * g[1]) * t2;
+    J = (2. * un / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
+  } else { // slip: specular reflection of the relative normal velocity
+    J = un < 0. ? (2. * un / inv_mn) * nrm : Vector3d{};
+  }
+  return {J, v0 - J / m};
+}
+// Noise counters of the k-th bounce of a particle in one step (k = 0: the
+// counters of the previous versions).
+std::uint64_t key0(int k) { return k == 0 ? 0u : 16u + 2u * static_cast<std::uint64_t>(k); }
+std::uint64_t key1(int k) { return key0(k) + 1u; }
+
+// A pair (SRD particle, colloid j) that may meet within the step (event
+// search, coupling pair): d0 = x_i(0) - R_j(0) (minimum image) at the start
+// of the step, v the particle's velocity.
+struct Cand {
+  int pid, j, rank, index, type;
+  Vector3d d0, v;
+};
+static_assert(std::is_trivially_copyable_v<Cand>);
+constexpr int kMaxEventBounces = 8; // per particle and step (then the end-of-step check)
+} // namespace
+
 void Fluid::stream(System &s, double dt) {
   m_ia = &s.interactions();
   auto const &box = s.box();
@@ -319,21 +384,244 @@ void Fluid::stream(System &s, double dt) {
   auto &ps = s.particles();
   std::uint64_t const step = s.step();
   int const me = s.comm().rank();
+  double const m = m_p.mass, kT = m_p.kT;
   double r_max = 0.;
-  std::vector<double> Rx(cols.size());
-  for (std::size_t j = 0; j < cols.size(); ++j) {
-    for (int t = 0; t < max_type; ++t)
-      r_max = std::max(r_max, boundary(cols[j].type, t).radius);
-    Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
-  }
+  std::vector<double> r_pair(cols.size(), 0.); // largest radius with the pair coupling
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    for (int t = 0; t < max_type; ++t) {
+      auto const b = boundary(cols[j].type, t);
+      r_max = std::max(r_max, b.radius);
+      if (b.active && b.coupling == Coupling::pair)
+        r_pair[j] = std::max(r_pair[j], b.radius);
+    }
   double const r_search = r_max;
-  if (!(r_max < 0.5 * L[0] - 1.) && r_max > 0.) // no quick rejection in a small box
-    r_max = INFINITY;
+  bool const small_box = !(r_max < 0.5 * L[0] - 1.) && r_max > 0.; // no quick rejection
   std::uint64_t const stamp = m_n_streams + 1;
-  // 1. Detection: the SRD particles found inside a colloid after streaming
-  // (each at most once per step, off the first colloid in id order that
-  // holds it). The colloids do not move during the streaming step, so the
-  // detection does not depend on the order in which the bounces are applied.
+  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == n;
+  std::vector<Vector3d> dP(cols.size());
+  // bounces of this step per particle (pid, count; ascending pid), for the noise counters
+  std::vector<std::pair<int, int>> n_bounces;
+
+  // 1. Event-ordered bounces (coupling pair; not with walls, whose particles
+  // streamed already). The colloid moved in the MD drift from
+  // R0 = R - V dt with its velocity V; the SRD particles are still at their
+  // positions x(0) of the start of the step. Every (particle, colloid) pair
+  // whose relative straight path within the step comes closer than
+  // radius + margin is a candidate; the candidates of all ranks are gathered
+  // on every rank and every rank runs the same event sequence: the earliest
+  // crossing of the sphere by the relative linear motion of particle and
+  // colloid (both move on straight lines between events), the rule applied
+  // at that time on the surface, the colloid's new V, Omega used for the
+  // rest of the step (its later crossings recomputed), the particle
+  // streamed on with its new velocity. The colloid ends at R0 + the
+  // integral of its piecewise constant velocity (its position is corrected
+  // by sum_k dV_k (dt - t_k)). A particle the colloid's velocity change
+  // brings into reach that was no candidate (the margin is 0.1 a0) is caught
+  // by the end-of-step check (2.), which applies the rule of the previous
+  // versions.
+  std::vector<Vector3d> dR(cols.size());
+  std::vector<std::pair<int, std::array<Vector3d, 2>>> moved; // this rank's bounced particles
+  bool events = m_p.wall_axis < 0;
+  if (events) {
+    bool any = false;
+    for (double r : r_pair)
+      any |= r > 0.;
+    events = any; // the same on every rank (the colloids are gathered)
+  }
+  if (events) {
+    double const margin = 0.1 * m_p.cell_size;
+    std::vector<Vector3d> R0(cols.size());
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      R0[j] = cols[j].R - dt * cols[j].V;
+    std::vector<Cand> cand;
+    auto consider = [&](int i, std::size_t j) {
+      auto const b = boundary(cols[j].type, type[i]);
+      if (!b.active || b.coupling != Coupling::pair)
+        return;
+      Vector3d const d0 = box.get_mi_vector(pos[i], R0[j]);
+      Vector3d const w = v[i] - cols[j].V;
+      double const w2 = w.norm2();
+      double const t = w2 > 0. ? std::clamp(-(d0 * w) / w2, 0., dt) : 0.;
+      double const rr = b.radius + margin;
+      if ((d0 + t * w).norm2() < rr * rr)
+        cand.push_back({id[i], static_cast<int>(j), me, i, type[i], d0, v[i]});
+    };
+    if (indexed) {
+      // a candidate is, at some time of the step, within radius + margin of
+      // R0 + V t, hence within radius + margin + |V| dt of R
+      std::vector<int> near_list;
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        if (!(r_pair[j] > 0.))
+          continue;
+        near_list.clear();
+        near(cols[j].R, r_pair[j] + margin + cols[j].V.norm() * dt, L, near_list);
+        for (int i : near_list)
+          if (!m_is_loose[i])
+            consider(i, j);
+      }
+      for (int i : m_loose)
+        for (std::size_t j = 0; j < cols.size(); ++j)
+          if (r_pair[j] > 0.)
+            consider(i, j);
+    } else {
+      for (int i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < cols.size(); ++j) {
+          if (!(r_pair[j] > 0.))
+            continue;
+          if (!small_box) {
+            // quick rejection along x (one wrap: r + reach < L/2)
+            double dx = pos[i][0] - (R0[j][0] - L[0] * std::floor(R0[j][0] / L[0]));
+            dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
+            if (std::abs(dx) >= r_pair[j] + margin + (std::abs(v[i][0]) + std::abs(cols[j].V[0])) * dt)
+              continue;
+          }
+          consider(i, j);
+        }
+    }
+    if (s.comm().parallel())
+      cand = s.comm().allgatherv(cand);
+    std::sort(cand.begin(), cand.end(),
+              [](Cand const &a, Cand const &b) { return a.pid < b.pid || (a.pid == b.pid && a.j < b.j); });
+    // the particles (one state per pid) and the colloids' states
+    struct PState {
+      int k0, k1, nb = 0, ver = 0;
+      Vector3d v, X{}; // velocity, displacement at time tp
+      double tp = 0.;
+    };
+    struct CState {
+      Vector3d D{}, V, W; // displacement at time tc, velocity, angular velocity
+      double tc = 0.;
+      int ver = 0;
+      std::vector<int> pairs;
+    };
+    std::vector<PState> P;
+    std::vector<int> p_of(cand.size());
+    for (std::size_t k = 0; k < cand.size(); ++k) {
+      if (k == 0 || cand[k].pid != cand[k - 1].pid) {
+        PState ps0;
+        ps0.k0 = static_cast<int>(k);
+        ps0.v = cand[k].v;
+        P.push_back(ps0);
+      }
+      P.back().k1 = static_cast<int>(k) + 1;
+      p_of[k] = static_cast<int>(P.size()) - 1;
+    }
+    std::vector<CState> C(cols.size());
+    std::vector<double> rad(cand.size());
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      C[j].V = cols[j].V, C[j].W = cols[j].W;
+    for (std::size_t k = 0; k < cand.size(); ++k) {
+      C[cand[k].j].pairs.push_back(static_cast<int>(k));
+      rad[k] = boundary(cols[cand[k].j].type, cand[k].type).radius;
+    }
+    struct Ev {
+      double t;
+      int pid, j, k, vp, vc;
+      bool operator>(Ev const &o) const {
+        return t > o.t || (t == o.t && (pid > o.pid || (pid == o.pid && j > o.j)));
+      }
+    };
+    std::vector<Ev> heap;
+    auto schedule = [&](int k, double t_now) {
+      auto const &c = cand[k];
+      auto const &p = P[p_of[k]];
+      auto const &cs = C[c.j];
+      if (p.nb >= kMaxEventBounces)
+        return;
+      Vector3d const dn = c.d0 + (p.X + (t_now - p.tp) * p.v) - (cs.D + (t_now - cs.tc) * cs.V);
+      Vector3d const w = p.v - cs.V;
+      double const bb = dn * w;
+      if (!(bb < 0.))
+        return; // not approaching
+      double const cc = dn.norm2() - rad[k] * rad[k];
+      double const disc = bb * bb - w.norm2() * cc;
+      if (disc < 0.)
+        return; // passes by
+      // the entry root, stable form (c / (larger root)); 0 if inside already
+      double const t = t_now + (cc <= 0. ? 0. : cc / (-bb + std::sqrt(disc)));
+      if (!(t <= dt))
+        return;
+      heap.push_back({t, c.pid, c.j, k, p.ver, cs.ver});
+      std::push_heap(heap.begin(), heap.end(), std::greater<Ev>{});
+    };
+    for (std::size_t k = 0; k < cand.size(); ++k)
+      schedule(static_cast<int>(k), 0.);
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), std::greater<Ev>{});
+      Ev const e = heap.back();
+      heap.pop_back();
+      auto &p = P[p_of[e.k]];
+      auto &cs = C[e.j];
+      if (p.ver != e.vp || cs.ver != e.vc || p.nb >= kMaxEventBounces)
+        continue; // outdated
+      auto const &c = cand[e.k];
+      auto const &col = cols[e.j];
+      double const t = e.t;
+      cs.D += (t - cs.tc) * cs.V;
+      cs.tc = t;
+      p.X += (t - p.tp) * p.v;
+      p.tp = t;
+      Vector3d const dn = c.d0 + p.X - cs.D;
+      double const r = dn.norm();
+      Vector3d const nrm = r > 0. ? dn / r : Vector3d{0., 0., 1.};
+      auto const b = boundary(col.type, c.type);
+      Vector3d const arm = b.radius * nrm;
+      p.X = cs.D + arm - c.d0; // on the surface
+      auto const bo = pair_rule(b, m, col.M, col.I, cs.V, cs.W, nrm, p.v, kT, m_p.seed, step,
+                                static_cast<std::uint64_t>(c.pid), key0(p.nb), key1(p.nb));
+      cs.V += bo.J / col.M;
+      if (col.I > 0.)
+        cs.W += cross(arm, bo.J) / col.I;
+      dP[e.j] += bo.J;
+      p.v = bo.vn;
+      ++p.nb, ++p.ver, ++cs.ver;
+      for (int k2 : cs.pairs) // the colloid's new velocity: its other pairs
+        if (k2 != e.k)
+          schedule(k2, t);
+      for (int k2 = p.k0; k2 < p.k1; ++k2) // the particle's new velocity: its other colloids
+        if (k2 != e.k)
+          schedule(k2, t);
+    }
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      auto &cs = C[j];
+      cs.D += (dt - cs.tc) * cs.V;
+      dR[j] = cs.D - dt * cols[j].V; // exactly 0 without bounces
+      cols[j].R += dR[j];
+      cols[j].V = cs.V, cols[j].W = cs.W;
+    }
+    for (auto const &p : P) {
+      if (p.nb == 0)
+        continue;
+      auto const &c = cand[p.k0];
+      n_bounces.emplace_back(c.pid, p.nb);
+      if (c.rank == me)
+        moved.push_back({c.index, std::array<Vector3d, 2>{pos[c.index] + p.X + (dt - p.tp) * p.v, p.v}});
+    }
+  }
+  auto bounces_of = [&](int pid) {
+    auto const it = std::lower_bound(n_bounces.begin(), n_bounces.end(), std::make_pair(pid, 0));
+    return it != n_bounces.end() && it->first == pid ? it->second : 0;
+  };
+
+  // 2. End-of-step check: the SRD particles found inside a colloid after
+  // streaming (each at most once per step, off the first colloid in id
+  // order that holds it): every bounce of the `fixed_surface` and `seed003`
+  // couplings and of walled channels (seed 003's rule: half a step back,
+  // onto the surface), and with the pair coupling only a particle the event
+  // search did not foresee.
+  for (int i = 0; i < n; ++i) {
+    pos[i] += dt_free * v[i];
+    fold(pos[i], L);
+  }
+  for (auto const &mv : moved) {
+    int const i = mv.first;
+    pos[i] = mv.second[0], v[i] = mv.second[1];
+    fold(pos[i], L);
+  }
+  std::vector<double> Rx(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
+  double const r_rej = small_box ? INFINITY : r_max;
   std::vector<Hit> hits;
   auto inside = [&](int i, std::size_t j) {
     auto const &c = cols[j];
@@ -341,20 +629,21 @@ void Fluid::stream(System &s, double dt) {
     if (!b.active)
       return false;
     Vector3d const d = box.get_mi_vector(pos[i], c.R);
-    if (d.norm2() >= b.radius * b.radius)
+    if (events && b.coupling == Coupling::pair ? !deep_inside(d.norm2(), b.radius)
+                                               : d.norm2() >= b.radius * b.radius)
       return false;
     hits.push_back({id[i], static_cast<int>(j), me, i, type[i], d, v[i]});
     return true;
   };
-  bool const indexed = m_index_valid && static_cast<int>(m_hit.size()) == n;
   if (indexed) {
     // the cell index of the last collision: a particle now within r of a
     // colloid sat, at the sort, in a cell within r + m_disp of it; the
     // particles bounced since the sort (m_loose) are checked one by one
-    for (int i = 0; i < n; ++i) {
-      pos[i] += dt_free * v[i];
-      fold(pos[i], L);
-    }
+    for (auto const &mv : moved) // their displacement is no longer bounded by m_disp
+      if (!m_is_loose[mv.first]) {
+        m_is_loose[mv.first] = 1;
+        m_loose.push_back(mv.first);
+      }
     std::vector<int> cand;
     for (std::size_t j = 0; j < cols.size(); ++j) {
       cand.clear();
@@ -373,39 +662,36 @@ void Fluid::stream(System &s, double dt) {
           break;
         }
     }
-    for (auto const &h : hits) // their displacement is no longer bounded by m_disp
+    for (auto const &h : hits)
       if (!m_is_loose[h.index]) {
         m_is_loose[h.index] = 1;
         m_loose.push_back(h.index);
       }
   } else {
     for (int i = 0; i < n; ++i) {
-      pos[i] += dt_free * v[i];
-      fold(pos[i], L); // folded before the checks, as in the indexed search
       for (std::size_t j = 0; j < cols.size(); ++j) {
-        // quick rejection along x: pos (streamed once) and the folded centre
-        // differ by less than L + v dt, so one wrap gives the minimum image
-        // whenever it is shorter than r_max < L/2
+        // quick rejection along x: pos and the folded centre differ by less
+        // than L + v dt, so one wrap gives the minimum image whenever it is
+        // shorter than r_max < L/2
         double dx = pos[i][0] - Rx[j];
         dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
-        if (std::abs(dx) >= r_max)
+        if (std::abs(dx) >= r_rej)
           continue;
         if (inside(i, j))
           break;
       }
     }
   }
-  // 2. The bounces of all ranks, in the order of the SRD ids: every rank
-  // applies them in this order to its copy of the colloids (bit-identical
-  // on every rank, whichever rank holds the particles and whichever search
-  // found them) and updates its own particles.
+  // The end-of-step bounces of all ranks, in the order of the SRD ids: every
+  // rank applies them in this order to its copy of the colloids
+  // (bit-identical on every rank, whichever rank holds the particles and
+  // whichever search found them) and updates its own particles.
   if (s.comm().parallel())
     hits = s.comm().allgatherv(hits);
   std::sort(hits.begin(), hits.end(), [](Hit const &a, Hit const &b) { return a.pid < b.pid; });
-  std::vector<Vector3d> V(cols.size()), W(cols.size()), dP(cols.size()), dP_late(cols.size()), dL_late(cols.size());
+  std::vector<Vector3d> V(cols.size()), W(cols.size()), dP_late(cols.size()), dL_late(cols.size());
   for (std::size_t j = 0; j < cols.size(); ++j)
     V[j] = cols[j].V, W[j] = cols[j].W;
-  double const m = m_p.mass, kT = m_p.kT;
   for (auto const &h : hits) {
     auto const &c = cols[h.j];
     auto const b = boundary(c.type, h.type);
@@ -417,50 +703,24 @@ void Fluid::stream(System &s, double dt) {
     double const r = d.norm();
     Vector3d const nrm = r > 0. ? d / r : Vector3d{0., 0., 1.};
     Vector3d const arm = b.radius * nrm; // r* - R
-    Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
-    t1 *= 1. / t1.norm();
-    Vector3d const t2 = cross(nrm, t1);
     auto const pid = static_cast<std::uint64_t>(h.pid);
+    int const nb = bounces_of(h.pid);
     Vector3d J, vn; // impulse handed to the colloid, new velocity of the particle
     if (pair) {
-      // the rule acts on the relative velocity u at the contact point; an
-      // impulse J changes it by -J_n/mu_n (normal) and -J_t/mu_t
-      // (tangential), 1/mu_n = 1/m + 1/M, 1/mu_t = 1/m + 1/M + a^2/I, and
-      // the pair's kinetic energy has the part u_n^2 mu_n/2 + u_t^2 mu_t/2
-      // in these directions: drawing u' from the flux-weighted Maxwellian
-      // with these masses keeps the pair's Maxwellian (doc/srd.md)
-      double const inv_mn = 1. / m + 1. / c.M;
-      double const inv_mt = inv_mn + (c.I > 0. ? b.radius * b.radius / c.I : 0.);
-      Vector3d const u = v0 - (V[h.j] + cross(W[h.j], arm));
-      double const un = u * nrm;
-      Vector3d const ut = u - un * nrm;
-      if (b.rule == BoundaryRule::stochastic) {
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
-        auto const x = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 1);
-        double const un2 = std::sqrt(kT * inv_mn) * std::sqrt(-2. * std::log(unit_open0(x[0])));
-        double const st = std::sqrt(kT * inv_mt);
-        Vector3d const ut2 = (st * g[0]) * t1 + (st * g[1]) * t2;
-        J = ((un - un2) / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
-      } else if (b.rule == BoundaryRule::bounce_back) {
-        J = (2. * un / inv_mn) * nrm + (2. / inv_mt) * ut;
-      } else if (b.rule == BoundaryRule::rough) {
-        double const cc = kRoughKeep, st = std::sqrt((1. - cc * cc) * kT * inv_mt);
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
-        Vector3d const ut2 = cc * ut + (st * g[0]) * t1 + (st * g[1]) * t2;
-        J = (2. * un / inv_mn) * nrm + (1. / inv_mt) * (ut - ut2);
-      } else { // slip: specular reflection of the relative normal velocity
-        J = un < 0. ? (2. * un / inv_mn) * nrm : Vector3d{};
-      }
-      vn = v0 - J / m;
+      auto const bo = pair_rule(b, m, c.M, c.I, V[h.j], W[h.j], nrm, v0, kT, m_p.seed, step, pid, key0(nb), key1(nb));
+      J = bo.J, vn = bo.vn;
     } else {
       // the rule in the frame of an infinitely heavy surface (seed 003)
       double const sig = std::sqrt(kT / m);
       Vector3d const vloc = V[h.j] + cross(W[h.j], arm);
+      Vector3d t1 = std::abs(nrm[0]) < 0.9 ? cross(nrm, Vector3d{1., 0., 0.}) : cross(nrm, Vector3d{0., 1., 0.});
+      t1 *= 1. / t1.norm();
+      Vector3d const t2 = cross(nrm, t1);
       if (b.rule == BoundaryRule::stochastic) {
         // eqs. (1), (2) about the surface velocity: flux-weighted normal
         // (Rayleigh) and Maxwellian tangential components
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
-        auto const x = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 1);
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, key0(nb));
+        auto const x = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, key1(nb));
         double const v_n = sig * std::sqrt(-2. * std::log(unit_open0(x[0])));
         vn = vloc + v_n * nrm + (sig * g[0]) * t1 + (sig * g[1]) * t2;
       } else if (b.rule == BoundaryRule::bounce_back) {
@@ -470,7 +730,7 @@ void Fluid::stream(System &s, double dt) {
         // of the relative tangential velocity reversed); the rest redrawn
         // from the Maxwellian so the rule keeps detailed balance
         double const cc = kRoughKeep, s_noise = std::sqrt(1. - cc * cc) * sig;
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, 0);
+        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, pid, key0(nb));
         Vector3d const vr = v0 - vloc;
         Vector3d const vr_n = (vr * nrm) * nrm;
         vn = vloc - vr_n + cc * (vr - vr_n) + (s_noise * g[0]) * t1 + (s_noise * g[1]) * t2;
@@ -502,6 +762,7 @@ void Fluid::stream(System &s, double dt) {
     int const k = cols[j].index;
     if (k < 0)
       continue; // owned by another rank
+    ps.pos[k] += dR[j];
     ps.v[k] = V[j] + dP_late[j] / cols[j].M;
 #ifdef ROTATION
     if (cols[j].I > 0.)
