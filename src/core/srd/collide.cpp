@@ -67,6 +67,32 @@ bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
 // angular momentum to restore (AT+a).
 constexpr int nA = 10, nB = 13;
 
+// The cell sums are exact: every term is truncated to a multiple of 2^-60
+// (|x| < 2^39) and added as a 128-bit integer, so a sum does not depend on
+// the order of its terms, and a cell split between MPI ranks (partial sums
+// added in any order) gets the same bits as on one rank: the trajectory does
+// not depend on the number of ranks at all (doc/srd.md, "Parallel runs").
+// The truncation changes a velocity by < 1e-18 (momentum is conserved to
+// that, and the rotation about the exact mean of the truncated velocities).
+using Fixed = __int128;
+constexpr double kFixLimit = 549755813888.;      // 2^39
+constexpr double kVLimit = 32768.;                // 2^15 (velocities)
+inline Fixed to_fixed(double x) {
+  // two int64 limbs: hi = trunc(x 2^20), the rest (exact) times 2^40
+  double const y = x * 1048576.;                  // 2^20, exact
+  auto const hi = static_cast<std::int64_t>(y);   // |y| < 2^59
+  double const r = y - static_cast<double>(hi);   // exact, |r| < 1
+  auto const lo = static_cast<std::int64_t>(r * 1099511627776.); // 2^40
+  return (static_cast<Fixed>(hi) << 40) + lo;
+}
+inline double from_fixed(Fixed X) {
+  // a fixed function of the bits (the same on every rank)
+  auto const hi = static_cast<std::int64_t>(X >> 64);
+  auto const lo = static_cast<std::uint64_t>(X);
+  return (static_cast<double>(hi) * 18446744073709551616. + static_cast<double>(lo)) *
+         8.673617379884035e-19; // 2^-60
+}
+
 struct SrdRecord {
   Vector3d pos, v;
   int id, type;
@@ -269,17 +295,41 @@ void Fluid::collide(System &s) {
     m_r.resize(n);
 
   // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
-  auto sums_A = [&](int b, int e, double *A) {
-    std::fill(A, A + nA, 0.);
-    A[0] = e - b;
-    Vector3d sv{}, sx{}, sr{};
-    for (int i = b; i < e; ++i)
-      sv += v[i];
+  bool too_fast = false; // a term beyond the range of the exact sums
+  auto fx = [&too_fast](double x) {
+    too_fast |= !(std::abs(x) < kFixLimit);
+    return to_fixed(x);
+  };
+  auto sums_A = [&](int b, int e, Fixed *A) {
+    std::fill(A, A + (ang ? nA : at ? 7 : 4), Fixed{0});
+    A[0] = static_cast<Fixed>(e - b) << 60;
+    {
+      // the velocities: two limbs, each an integer held exactly in a double
+      // (rounded with the 1.5 2^52 trick; |v| < 2^15: |hi| < 2^35, |lo| <=
+      // 2^39, so their sums over < 2^13 particles are exact integers in
+      // double precision, whatever the order)
+      constexpr double magic = 6755399441055744.; // 1.5 2^52
+      double h[3] = {0., 0., 0.}, l[3] = {0., 0., 0.};
+      double big = 0.;
+      for (int i = b; i < e; ++i)
+        for (int d = 0; d < 3; ++d) {
+          double const x = v[i][d];
+          big = std::max(big, std::abs(x));
+          double const y = x * 1048576.;
+          double const hi = (y + magic) - magic;
+          h[d] += hi;
+          l[d] += ((y - hi) * 1099511627776. + magic) - magic;
+        }
+      too_fast |= !(big < kVLimit) || e - b >= (1 << 13);
+      for (int d = 0; d < 3; ++d)
+        A[1 + d] = (static_cast<Fixed>(static_cast<std::int64_t>(h[d])) << 40) + static_cast<std::int64_t>(l[d]);
+    }
     if (at)
       for (int i = b; i < e; ++i) {
         auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_at, c, static_cast<std::uint64_t>(id[i]), 0);
         m_xi[i] = sig * Vector3d{r[0], r[1], r[2]};
-        sx += m_xi[i];
+        for (int d = 0; d < 3; ++d)
+          A[4 + d] += fx(m_xi[i][d]);
       }
     if (ang)
       for (int i = b; i < e; ++i) {
@@ -287,55 +337,55 @@ void Fluid::collide(System &s) {
         for (int d = 0; d < 3; ++d) {
           double const y = pos[i][d] - shift[d];
           m_r[i][d] = y - a0 * std::floor(y / a0);
+          A[7 + d] += fx(m_r[i][d]);
         }
-        sr += m_r[i];
       }
-    for (int d = 0; d < 3; ++d)
-      A[1 + d] = sv[d], A[4 + d] = sx[d], A[7 + d] = sr[d];
   };
   struct Mean {
     double nc;
     Vector3d u, xm, rc;
   };
-  auto means = [](double const *A) {
-    Mean m{A[0], {A[1], A[2], A[3]}, {A[4], A[5], A[6]}, {A[7], A[8], A[9]}};
+  auto means = [at, ang](Fixed const *A) {
+    Mean m{static_cast<double>(static_cast<std::int64_t>(A[0] >> 60)), {}, {}, {}};
     double const inv = 1. / m.nc;
-    m.u *= inv, m.xm *= inv, m.rc *= inv;
+    for (int d = 0; d < 3; ++d) {
+      m.u[d] = from_fixed(A[1 + d]) * inv;
+      if (at)
+        m.xm[d] = from_fixed(A[4 + d]) * inv;
+      if (ang)
+        m.rc[d] = from_fixed(A[7 + d]) * inv;
+    }
     return m;
   };
   // first half: rotation (rule srd), local B sums
-  auto stage1 = [&](int g, int b, int e, Mean const &m, double *B) {
-    std::fill(B, B + nB, 0.);
+  auto stage1 = [&](int g, int b, int e, Mean const &m, Fixed *B) {
+    std::fill(B, B + nB, Fixed{0});
     if (!at) {
       Vector3d const axis = random_axis(m_p.seed, c, static_cast<std::uint64_t>(g));
       for (int i = b; i < e; ++i)
         v[i] = m.u + rotate(v[i] - m.u, axis, ca, sa);
-      if (thermo) {
-        double e_now = 0.;
+      if (thermo)
         for (int i = b; i < e; ++i)
-          e_now += (v[i] - m.u).norm2();
-        B[0] = e_now;
-      }
+          B[0] += fx((v[i] - m.u).norm2());
     } else if (ang) {
-      Vector3d dL{};
       for (int i = b; i < e; ++i) {
         Vector3d const q = m_r[i] - m.rc;
         double const q2 = q.norm2();
         for (int x = 0; x < 3; ++x)
           for (int y = 0; y < 3; ++y)
-            B[1 + 3 * x + y] += (x == y ? q2 : 0.) - q[x] * q[y];
-        dL += cross(q, v[i] - m.u - (m_xi[i] - m.xm));
+            B[1 + 3 * x + y] += fx((x == y ? q2 : 0.) - q[x] * q[y]);
+        Vector3d const dL = cross(q, v[i] - m.u - (m_xi[i] - m.xm));
+        for (int d = 0; d < 3; ++d)
+          B[10 + d] += fx(dL[d]);
       }
-      for (int d = 0; d < 3; ++d)
-        B[10 + d] = dL[d];
     }
   };
   // second half: thermostat scaling (srd) or the new velocities (AT)
-  auto stage2 = [&](int g, int b, int e, Mean const &m, double const *B) {
+  auto stage2 = [&](int g, int b, int e, Mean const &m, Fixed const *B) {
     if (thermo) {
       // scale relative velocities so the cell's relative kinetic energy is a
       // draw from its equilibrium Gamma(3(nc-1)/2, kT) distribution
-      double const e_now = 0.5 * m_p.mass * B[0];
+      double const e_now = 0.5 * m_p.mass * from_fixed(B[0]);
       int const dof = 3 * (static_cast<int>(m.nc) - 1);
       double e_new = 0.;
       for (int k = 0; k < dof; k += 4) {
@@ -359,8 +409,8 @@ void Fluid::collide(System &s) {
       double I[3][3];
       for (int x = 0; x < 3; ++x)
         for (int y = 0; y < 3; ++y)
-          I[x][y] = B[1 + 3 * x + y];
-      Vector3d const dL{B[10], B[11], B[12]};
+          I[x][y] = from_fixed(B[1 + 3 * x + y]);
+      Vector3d const dL{from_fixed(B[10]), from_fixed(B[11]), from_fixed(B[12])};
       ok = solve3(I, dL, omega);
       if (!ok && m.nc == 2.) { // collinear pair: I = 2(q^2 - q q), dL is normal to q
         double const tr = I[0][0] + I[1][1] + I[2][2];
@@ -377,8 +427,8 @@ void Fluid::collide(System &s) {
   };
 
   // local cells: everything at once; shared cells: their A sums collected
-  std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
-  double A[nA], B[nB];
+  std::vector<Fixed> bufA(shared.size() * nA, Fixed{0}), bufB(shared.size() * nB, Fixed{0});
+  Fixed A[nA], B[nB];
   for (int g = 0; g < n_cells; ++g) {
     int const b = m_count[g], e = m_count[g + 1];
     if (e == b)
@@ -397,9 +447,9 @@ void Fluid::collide(System &s) {
   }
   // shared cells: exchange the sums with the other touching ranks and add
   // them in rank order (the same bits on every touching rank)
-  auto exchange = [&](std::vector<double> &buf, int nk) {
+  auto exchange = [&](std::vector<Fixed> &buf, int nk) {
     int const me = comm.rank();
-    std::vector<std::vector<double>> send(comm.size());
+    std::vector<std::vector<Fixed>> send(comm.size());
     for (int q = 0; q < comm.size(); ++q)
       for (int sl : peer_cells[q])
         send[q].insert(send[q].end(), buf.begin() + static_cast<std::ptrdiff_t>(sl) * nk,
@@ -412,11 +462,11 @@ void Fluid::collide(System &s) {
                                   " sent " + std::to_string(recv[q].size()) + " shared-cell sums, rank " +
                                   std::to_string(me) + " expected " + std::to_string(send[q].size()) +
                                   " (internal error)");
-    std::vector<double> tot(static_cast<std::size_t>(nk));
+    std::vector<Fixed> tot(static_cast<std::size_t>(nk));
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      std::fill(tot.begin(), tot.end(), 0.);
+      std::fill(tot.begin(), tot.end(), Fixed{0});
       for (int r : shared_ranks[k]) {
-        double const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
+        Fixed const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
         for (int x = 0; x < nk; ++x)
           tot[x] += src[x];
         if (r != me)
@@ -429,8 +479,8 @@ void Fluid::collide(System &s) {
     exchange(bufA, nA);
     std::vector<Mean> ms(shared.size());
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      double const *Ak = &bufA[k * nA];
-      if (Ak[0] < 2.)
+      Fixed const *Ak = &bufA[k * nA];
+      if ((Ak[0] >> 60) < 2)
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
@@ -439,13 +489,18 @@ void Fluid::collide(System &s) {
     if (thermo || ang)
       exchange(bufB, nB);
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      if (bufA[k * nA] < 2.)
+      if ((bufA[k * nA] >> 60) < 2)
         continue;
       int const g = shared[k];
       if (m_count[g + 1] > m_count[g])
         stage2(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
   }
+  if (comm.any(too_fast))
+    throw Utils::RuntimeError("SRD collision " + std::to_string(c) +
+                              ": an SRD velocity (or a cell sum term) is not finite or beyond 2^39 "
+                              "(likely cause: a blow-up, e.g. a too large drive or colloid force, or "
+                              "velocities set by hand); the collision's sums cannot be exact");
   // the cell index for the colloid search of the next streaming steps
   double v2max = 0.;
   for (int i = 0; i < n; ++i)
