@@ -136,24 +136,36 @@ std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
 
 void Fluid::near(Vector3d R, double r, Vector3d const &L, std::vector<int> &out) const {
   // a particle now within r of R sat, at the last collision's sort, in a
-  // cell within r + m_disp of R
+  // cell within r + m_disp of R (cells of this rank's local grid, collide.cpp)
   fold(R, L);
   double const rr = r + m_disp + 1e-9 * L[0];
   double const inv_a0 = 1. / m_p.cell_size;
   auto const &gd = m_index_dim;
   std::array<std::vector<int>, 3> ks;
   for (int d = 0; d < 3; ++d) {
+    auto const &ax = m_index_axes[d];
     int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
     int const k1 = static_cast<int>(std::floor((R[d] + rr - m_index_shift[d]) * inv_a0));
-    bool const wall = d == m_p.wall_axis;
-    int const nk = wall ? gd[d] - 2 : gd[d];
-    if (k1 - k0 + 1 >= nk || (wall && (k0 < 0 || k1 >= nk))) {
+    int const nk = m_grid[d]; // cells along d in the box (between the walls on a wall axis)
+    bool const all = k1 - k0 + 1 >= nk || (ax.mode == 2 && (k0 < 0 || k1 >= nk));
+    if (all) {
       for (int k = 0; k < gd[d]; ++k)
         ks[d].push_back(k);
       continue;
     }
-    for (int k = k0; k <= k1; ++k)
-      ks[d].push_back(wall ? k + 1 : ((k % nk) + nk) % nk);
+    for (int k = k0; k <= k1; ++k) {
+      if (ax.mode == 0) {
+        ks[d].push_back(((k % nk) + nk) % nk);
+      } else if (ax.mode == 2) {
+        int const l = k + 1 - ax.off;
+        if (l >= 0 && l < ax.ext)
+          ks[d].push_back(l);
+      } else {
+        for (int img : {k - nk, k, k + nk})
+          if (img - ax.off >= 0 && img - ax.off < ax.ext)
+            ks[d].push_back(img - ax.off);
+      }
+    }
   }
   for (int kx : ks[0])
     for (int ky : ks[1])

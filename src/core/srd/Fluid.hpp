@@ -19,6 +19,7 @@
 #include "srd/boundary_kernel.hpp"
 #include "utils/Vector.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -66,6 +67,14 @@ struct Drive {
   int flow_dir = 0, grad_dir = 2;
   double g = 0.;
   Utils::Vector3d accel{}; // uniform acceleration of every SRD particle (drag method)
+};
+
+/** One axis of a rank's local collision-cell grid (collide.cpp): mode 0 the
+ * whole periodic axis (local = global coordinate), 1 a split periodic axis
+ * (local = raw index - off, raw = floor((x - shift)/a0)), 2 a wall axis
+ * (local = clamp(raw + 1) - off); ext cells. */
+struct AxisMap {
+  int mode = 0, off = 0, ext = 0;
 };
 
 class Fluid {
@@ -162,7 +171,8 @@ private:
   // since then (m_loose) are checked one by one
   bool m_index_valid = false;
   Utils::Vector3d m_index_shift{};
-  Utils::Vector3i m_index_dim{};
+  Utils::Vector3i m_index_dim{}; // the local grid's extent
+  std::array<AxisMap, 3> m_index_axes{};
   double m_disp = 0., m_vmax = 0.;
   std::vector<std::uint64_t> m_hit;
   std::vector<int> m_loose;

@@ -141,26 +141,79 @@ void Fluid::collide(System &s) {
   Utils::Vector3i gdim = m_grid;
   if (m_p.wall_axis >= 0)
     gdim[m_p.wall_axis] += 2;
-  int const n_cells = gdim[0] * gdim[1] * gdim[2];
   double const inv_a0 = 1. / a0;
+  // The rank's local cell grid: along an axis split between ranks, the cells
+  // its domain [lo, lo + len) overlaps (raw index r = floor((x - shift)/a0)
+  // from that of lo to that of lo + len, one more on each side against
+  // round-off); along an axis not split (or one whose local range would
+  // wrap onto itself) the whole axis. The sort, the cell loop and the shared
+  // cell search then scale with the local domain, not with the box; the
+  // noise is keyed by the global cell index, as before.
+  auto const ng = s.cells().node_grid(box);
+  auto const dom = s.cells().local_domain(box);
+  std::array<AxisMap, 3> ax{};
+  for (int d = 0; d < 3; ++d) {
+    bool const wall = d == m_p.wall_axis;
+    ax[d] = {wall ? 2 : 0, 0, gdim[d]};
+    if (!comm.parallel() || ng[d] < 2)
+      continue;
+    int const r0 = static_cast<int>(std::floor((dom.first[d] - shift[d]) * inv_a0)) - 1;
+    int const r1 = static_cast<int>(std::floor((dom.first[d] + dom.second[d] - shift[d]) * inv_a0)) + 1;
+    if (wall) {
+      int const k0 = std::clamp(r0 + 1, 0, gdim[d] - 1), k1 = std::clamp(r1 + 1, 0, gdim[d] - 1);
+      ax[d] = {2, k0, k1 - k0 + 1};
+    } else if (r1 - r0 + 1 < m_grid[d]) {
+      ax[d] = {1, r0, r1 - r0 + 1};
+    }
+  }
+  Utils::Vector3i const ldim{ax[0].ext, ax[1].ext, ax[2].ext};
+  int const n_cells = ldim[0] * ldim[1] * ldim[2];
+  // global coordinate of local coordinate l along d
+  std::array<std::vector<int>, 3> glob;
+  for (int d = 0; d < 3; ++d) {
+    glob[d].resize(ldim[d]);
+    for (int l = 0; l < ldim[d]; ++l) {
+      int k = l + ax[d].off;
+      if (ax[d].mode == 1)
+        k = ((k % m_grid[d]) + m_grid[d]) % m_grid[d];
+      glob[d][l] = k;
+    }
+  }
+  auto global_of = [&](int lc) {
+    int const l2 = lc % ldim[2], l1 = (lc / ldim[2]) % ldim[1], l0 = lc / (ldim[1] * ldim[2]);
+    return (glob[0][l0] * gdim[1] + glob[1][l1]) * gdim[2] + glob[2][l2];
+  };
+  bool bad_cell = false;
   auto cell_coord = [&](double x, int d) {
     // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d]
     int k = static_cast<int>(std::floor((x - shift[d]) * inv_a0));
-    if (d == m_p.wall_axis)
-      return std::clamp(k + 1, 0, gdim[d] - 1);
-    k %= m_grid[d];
-    return k < 0 ? k + m_grid[d] : k;
+    if (ax[d].mode == 2)
+      k = std::clamp(k + 1, 0, gdim[d] - 1);
+    else if (ax[d].mode == 0) {
+      k %= m_grid[d];
+      return k < 0 ? k + m_grid[d] : k;
+    }
+    k -= ax[d].off;
+    if (k < 0 || k >= ax[d].ext) [[unlikely]] {
+      bad_cell = true;
+      return 0;
+    }
+    return k;
   };
-  // counting sort of the particles into the shifted cells
+  // counting sort of the particles into the shifted cells (local grid)
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
   for (int i = 0; i < n; ++i) {
     int g = 0;
     for (int d = 0; d < 3; ++d)
-      g = g * gdim[d] + cell_coord(pos[i][d], d);
+      g = g * ldim[d] + cell_coord(pos[i][d], d);
     m_cell[i] = g;
     ++m_count[g + 1];
   }
+  if (bad_cell)
+    throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(comm.rank()) +
+                              " holds a particle outside its domain's collision cells (internal error: "
+                              "particle migration)");
   for (int g = 0; g < n_cells; ++g)
     m_count[g + 1] += m_count[g];
   m_order.resize(n);
@@ -179,21 +232,21 @@ void Fluid::collide(System &s) {
   // every domain face (the cell holding the face and its two neighbours);
   // for each candidate the ranks whose domain it overlaps (from the geometry
   // alone: the same answer on every rank). A cell touched by this rank and another one
-  // gets a slot in `shared` (ascending g); its sums are exchanged with the
-  // other touching ranks only (neighbour exchange) and added in rank order,
-  // so every touching rank gets the same bits.
-  std::vector<int> shared;                  // this rank's shared cells, ascending g
+  // gets a slot in `shared` (ascending global index); its sums are exchanged with the
+  // other touching ranks only (neighbour exchange) and added (exactly), so
+  // every touching rank gets the same bits.
+  std::vector<int> shared;                  // this rank's shared cells (local index), ascending global index
   std::vector<std::vector<int>> shared_ranks; // their touching ranks, ascending
   std::vector<std::vector<int>> peer_cells;   // per rank q: slots shared with q, ascending
   if (comm.parallel()) {
-    auto const ng = s.cells().node_grid(box);
     int const me = comm.rank();
     m_slot.assign(n_cells, -1);
-    std::vector<char> cand(n_cells, 0);
+    // per axis: the global coordinates in a face slab
+    std::array<std::vector<char>, 3> slab;
     for (int d = 0; d < 3; ++d) {
+      slab[d].assign(gdim[d], 0);
       if (ng[d] < 2)
         continue;
-      std::vector<char> slab(gdim[d], 0);
       for (int j = 0; j < ng[d]; ++j) {
         double const face = j * (L[d] / ng[d]);
         int const kf = static_cast<int>(std::floor((face - shift[d]) * inv_a0));
@@ -202,22 +255,12 @@ void Fluid::collide(System &s) {
           if (d == m_p.wall_axis) {
             k += 1;
             if (k >= 0 && k < gdim[d])
-              slab[k] = 1;
+              slab[d][k] = 1;
           } else {
             k %= m_grid[d];
-            slab[k < 0 ? k + m_grid[d] : k] = 1;
+            slab[d][k < 0 ? k + m_grid[d] : k] = 1;
           }
         }
-      }
-      int const d1 = (d + 1) % 3, d2 = (d + 2) % 3;
-      for (int k = 0; k < gdim[d]; ++k) {
-        if (!slab[k])
-          continue;
-        Utils::Vector3i q;
-        q[d] = k;
-        for (q[d1] = 0; q[d1] < gdim[d1]; ++q[d1])
-          for (q[d2] = 0; q[d2] < gdim[d2]; ++q[d2])
-            cand[(q[0] * gdim[1] + q[1]) * gdim[2] + q[2]] = 1;
       }
     }
     // domain slabs along d that positions of cell coordinate k can lie in:
@@ -253,33 +296,43 @@ void Fluid::collide(System &s) {
     }
     peer_cells.assign(comm.size(), {});
     std::vector<int> ranks;
-    for (int g = 0; g < n_cells; ++g) {
-      if (!cand[g])
+    struct SharedCell {
+      int g, lc;
+      std::vector<int> ranks;
+    };
+    std::vector<SharedCell> found;
+    for (int lc = 0; lc < n_cells; ++lc) {
+      int const l[3] = {lc / (ldim[1] * ldim[2]), (lc / ldim[2]) % ldim[1], lc % ldim[2]};
+      if (!slab[0][glob[0][l[0]]] && !slab[1][glob[1][l[1]]] && !slab[2][glob[2][l[2]]])
         continue;
-      int const k0 = g / (gdim[1] * gdim[2]), k1 = (g / gdim[2]) % gdim[1], k2 = g % gdim[2];
       ranks.clear();
-      for (int a : slabs_of[0][k0])
-        for (int b : slabs_of[1][k1])
-          for (int cc : slabs_of[2][k2])
+      for (int a : slabs_of[0][glob[0][l[0]]])
+        for (int b : slabs_of[1][glob[1][l[1]]])
+          for (int cc : slabs_of[2][glob[2][l[2]]])
             ranks.push_back(CellSystem::rank_at(ng, {a, b, cc}));
       std::sort(ranks.begin(), ranks.end());
       bool const mine = std::binary_search(ranks.begin(), ranks.end(), me);
       if (!mine) {
-        if (m_count[g + 1] > m_count[g])
+        if (m_count[lc + 1] > m_count[lc])
           throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(me) +
-                                    " holds particles of collision cell " + std::to_string(g) +
+                                    " holds particles of collision cell " + std::to_string(global_of(lc)) +
                                     " outside its domain (internal error: particle migration)");
         continue;
       }
       if (ranks.size() < 2)
         continue; // only this rank: a local cell
+      found.push_back({global_of(lc), lc, ranks});
+    }
+    // slots in the order of the global index (the same order on every rank)
+    std::sort(found.begin(), found.end(), [](SharedCell const &x, SharedCell const &y) { return x.g < y.g; });
+    for (auto &f : found) {
       int const slot = static_cast<int>(shared.size());
-      m_slot[g] = slot;
-      shared.push_back(g);
-      shared_ranks.push_back(ranks);
-      for (int r : ranks)
+      m_slot[f.lc] = slot;
+      shared.push_back(f.lc);
+      for (int r : f.ranks)
         if (r != me)
           peer_cells[r].push_back(slot);
+      shared_ranks.push_back(std::move(f.ranks));
     }
   }
   auto slot_of = [&](int g) { return comm.parallel() ? m_slot[g] : -1; };
@@ -442,8 +495,9 @@ void Fluid::collide(System &s) {
       continue; // one particle: nothing to exchange
     sums_A(b, e, A);
     auto const m = means(A);
-    stage1(g, b, e, m, B);
-    stage2(g, b, e, m, B);
+    int const gg = global_of(g);
+    stage1(gg, b, e, m, B);
+    stage2(gg, b, e, m, B);
   }
   // shared cells: exchange the sums with the other touching ranks and add
   // them in rank order (the same bits on every touching rank)
@@ -484,7 +538,7 @@ void Fluid::collide(System &s) {
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
-      stage1(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+      stage1(global_of(g), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
     if (thermo || ang)
       exchange(bufB, nB);
@@ -493,7 +547,7 @@ void Fluid::collide(System &s) {
         continue;
       int const g = shared[k];
       if (m_count[g + 1] > m_count[g])
-        stage2(g, m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+        stage2(global_of(g), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
   }
   if (comm.any(too_fast))
@@ -508,7 +562,8 @@ void Fluid::collide(System &s) {
   m_vmax = std::sqrt(v2max);
   m_disp = 0.;
   m_index_shift = shift;
-  m_index_dim = gdim;
+  m_index_axes = ax;
+  m_index_dim = ldim;
   m_hit.assign(n, 0);
   m_is_loose.assign(n, 0);
   m_loose.clear();
