@@ -5,8 +5,13 @@ thermostat), Marble side by side with LAMMPS `fix srd` (Debian package
 medians; plus the cost of one stick colloid (a = 2) per MD step in Marble
 (the extra time of a run with --colloids of them, default 8, per colloid).
 Writes bench/results/srd_throughput.json (doc/srd.md quotes it).
+With --ranks 1 2 it measures instead the wall-clock rate of the same fluid on
+1 and 2 MPI ranks (each run its own `mpiexec -n R`, interleaved rounds,
+medians; speed-up = median of the per-round ratios), written to
+bench/results/srd_throughput_ranks.json.
 
     build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
+    build/pymarble bench/srd_throughput.py --ranks 1 2 --sizes 320000 --rounds 5
 """
 import argparse
 import json
@@ -14,6 +19,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -30,6 +36,9 @@ p.add_argument("--work", type=float, default=1.5e7, help="particle-steps per tim
 p.add_argument("--no-lammps", action="store_true")
 p.add_argument("--colloids", type=int, default=8,
                help="stick colloids (a = 2) of the colloid run; the cost of one is the extra time / this")
+p.add_argument("--ranks", type=int, nargs="+", default=None,
+               help="wall-clock scaling over these MPI rank counts instead of the LAMMPS comparison")
+p.add_argument("--worker", nargs=2, type=float, default=None, help=argparse.SUPPRESS)
 args = p.parse_args()
 
 
@@ -106,6 +115,63 @@ def lammps_rate(N, steps):
     t = float(loops[-1][0]) * (float(cpu_util[-1]) / 100 if cpu_util else 1.0)
     return n * steps / t, t / steps
 
+
+def worker(N, steps):
+    """One timed run in this (MPI) process group; rank 0 prints the wall time."""
+    L = round((N / 5) ** (1 / 3))
+    s = marble.System(box_l=[L] * 3, time_step=0.1)
+    s.cell_system.skin = 0.5
+    s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=1)
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=2)
+    s.integrator.run(5)
+    t0 = time.perf_counter()
+    s.integrator.run(steps)
+    wall = time.perf_counter() - t0
+    n = s.srd.n
+    if marble.mpi_rank() == 0:
+        print(f"WALL {wall!r} N {n}", flush=True)
+
+
+def ranks_rate(N, steps, ranks):
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1",
+               OMP_NUM_THREADS="1")
+    cmd = ["mpiexec", "-n", str(ranks), sys.executable, os.path.abspath(__file__),
+           "--worker", str(N), str(steps)]
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    m = re.search(r"WALL ([0-9.eE+-]+) N (\d+)", out.stdout)
+    if not m:
+        raise RuntimeError(" ".join(cmd) + " failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
+    return int(m.group(2)) * steps / float(m.group(1))
+
+
+if args.worker:
+    worker(int(args.worker[0]), int(args.worker[1]))
+    sys.exit(0)
+
+if args.ranks:
+    res = dict(machine=machine_info(), setup="pure SRD fluid as below, wall-clock particle-collision-steps "
+               "per second on R MPI ranks (mpiexec), interleaved rounds", sizes=[])
+    for N in args.sizes:
+        N = int(N)
+        steps = max(5, int(2 * args.work / N))
+        rates = {r: [] for r in args.ranks}
+        for _ in range(args.rounds):
+            for r in args.ranks:
+                rates[r].append(ranks_rate(N, steps, r))
+        r0 = args.ranks[0]
+        row = dict(N=int(5 * round((N / 5) ** (1 / 3)) ** 3), steps=steps,
+                   rate={str(r): float(np.median(v)) for r, v in rates.items()},
+                   rate_all={str(r): v for r, v in rates.items()},
+                   speedup={str(r): float(np.median(np.array(v) / np.array(rates[r0])))
+                            for r, v in rates.items()})
+        res["sizes"].append(row)
+        print(f"N = {row['N']}: " + ", ".join(f"{r} ranks {row['rate'][str(r)]:.3g}/s (x{row['speedup'][str(r)]:.2f})"
+                                               for r in args.ranks), flush=True)
+    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+    with open(os.path.join(HERE, "results", "srd_throughput_ranks.json"), "w") as f:
+        json.dump(res, f, indent=1)
+    sys.exit(0)
 
 res = dict(machine=machine_info(), setup="pure SRD fluid, density 5, a0 = 1, tau = dt = 0.1, "
            "alpha = 90 deg (LAMMPS default rotation), grid shift on, no thermostat, 1 core",

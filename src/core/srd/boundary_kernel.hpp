@@ -17,9 +17,10 @@ namespace Srd {
 enum class BoundaryRule { stochastic, bounce_back, slip, rough };
 // How a bounce is coupled to the colloid (doc/srd.md, "Finite colloid mass"):
 // pair: the rule acts on the relative velocity at the contact point with the
-//   effective masses of the pair (particle, colloid), and each bounce's
-//   impulse is applied to the colloid at once, in the order of the SRD ids
-//   (detailed balance for the pair; the default);
+//   effective masses of the pair (particle, colloid); the bounces of a step
+//   are events at the crossing times of the relative motion, processed in
+//   time order, each impulse applied to the colloid at once (detailed balance
+//   for the pair, no detection lag; the default);
 // fixed_surface: the rule in the frame of an infinitely heavy surface (seed
 //   003), impulses applied at once in id order;
 // seed003: seed 003 literally: infinitely heavy surface, all impulses of a
@@ -33,7 +34,7 @@ struct SRDBoundary {
                               *doc = "Boundary of an SRD colloid (seed 003): colloid type i is a hard sphere of "
                                      "radius for SRD type j, with the rule 'stochastic' (stick, thermalising), "
                                      "'bounce_back' (stick), 'slip' (specular) or 'rough' (Enskog's rough sphere); coupling 'pair' (default: reduced-mass rule, "
-                                     "impulses applied one by one), 'fixed_surface' or 'seed003' (comparison only).";
+                                     "bounces as events in time order), 'fixed_surface' or 'seed003' (comparison only).";
   static constexpr KernelRole role = KernelRole::srd_boundary;
   struct Params {
     bool active = false;

@@ -9,12 +9,12 @@
 // overlaps the domains of several ranks, found from the geometry alone, so
 // every rank agrees) has its sums (count, momentum, and the Andersen and
 // angular parts) exchanged with the other ranks it overlaps (a neighbour
-// exchange, no global reduction) and added in rank order before the
+// exchange, no global reduction) and added (exactly: integer sums) before the
 // collision, and, for the thermostat and the angular-momentum correction, a
 // second set of sums after the first half of it; all other cells are local. The noise of a cell is
 // keyed by its global index, so every rank applies the same rotation and the
-// trajectory does not depend on the number of ranks (up to the order of the
-// floating-point sums of the shared cells).
+// trajectory does not depend on the number of ranks, bit for bit. Each rank
+// sorts its particles into its local cell grid (its domain plus one cell).
 #include "srd/Fluid.hpp"
 #include "srd/random.hpp"
 
@@ -67,8 +67,8 @@ bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
 // angular momentum to restore (AT+a).
 constexpr int nA = 10, nB = 13;
 
-// The cell sums are exact: every term is truncated to a multiple of 2^-60
-// (|x| < 2^39) and added as a 128-bit integer, so a sum does not depend on
+// The cell sums are exact: every term is cut to a multiple of 2^-60 (|x| <
+// 2^39; a fixed function of x) and added as a 128-bit integer, so a sum does not depend on
 // the order of its terms, and a cell split between MPI ranks (partial sums
 // added in any order) gets the same bits as on one rank: the trajectory does
 // not depend on the number of ranks at all (doc/srd.md, "Parallel runs").

@@ -208,8 +208,9 @@ def add_colloid(system, pos, radius=2.0, mass=None, type=1, srd_types=(0,), rule
     M = density (4/3) pi a^3 (seed 003 uses M = (2.5 a)^3: pass mass=125 for
     its a = 2 colloid). SRD particles inside are moved to random free places (also before every run).
     ``coupling``: "pair" (default: the rule acts on the relative velocity of
-    the pair particle/colloid with their effective masses, each impulse
-    applied at once in SRD-id order; detailed balance for any M), or, for
+    the pair particle/colloid with their effective masses; the bounces of a
+    step are found at the crossing times of the relative motion and applied
+    in time order, each impulse at once; detailed balance for any M), or, for
     comparison only, "fixed_surface" / "seed003" (doc/srd.md)."""
     assert_features("SRD", "ROTATION", "MASS")
     if mass is None:
