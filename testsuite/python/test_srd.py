@@ -343,3 +343,16 @@ def test_walls_inside_the_box():
             make(L=8.0, wall_axis=2, wall_positions=bad)
     with pytest.raises(ValueError, match="wall_positions"):
         make(L=8.0, wall_positions=(1.0, 2.0))
+
+
+@pytest.mark.parametrize("bad", [2.0e6, -5.0e7])
+def test_blow_up_stops_with_runtime_error(bad):
+    """The cell sums are exact only for |v| < 2^20 (doc/srd.md, "Exact cell
+    sums"): an absurd SRD velocity (the setter already refuses NaN) stops the run with a
+    RuntimeError naming the collision, never a silent NaN."""
+    s = make()
+    v = s.srd.v
+    v[7, 1] = bad
+    s.srd.v = v
+    with pytest.raises(RuntimeError, match="SRD collision"):
+        s.integrator.run(1)

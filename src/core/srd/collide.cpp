@@ -64,34 +64,30 @@ bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
 
 // Per-cell sums. A: count, sum v, sum xi (AT), sum r (AT+a).
 // B: relative kinetic energy (thermostat) or the inertia tensor and the
-// angular momentum to restore (AT+a).
-constexpr int nA = 10, nB = 13;
+// angular momentum to restore (AT+a). Every sum but the count is held as two
+// limbs (below): A = [n, v (3 x 2), xi (3 x 2), r (3 x 2)],
+// B = [e (2), I (9 x 2), dL (3 x 2)].
+constexpr int nA = 19, nB = 26;
 
-// The cell sums are exact: every term is cut to a multiple of 2^-60 (|x| <
-// 2^39; a fixed function of x) and added as a 128-bit integer, so a sum does not depend on
-// the order of its terms, and a cell split between MPI ranks (partial sums
-// added in any order) gets the same bits as on one rank: the trajectory does
-// not depend on the number of ranks at all (doc/srd.md, "Parallel runs").
-// The truncation changes a velocity by < 1e-18 (momentum is conserved to
-// that, and the rotation about the exact mean of the truncated velocities).
-using Fixed = __int128;
-constexpr double kFixLimit = 549755813888.;      // 2^39
-constexpr double kVLimit = 32768.;                // 2^15 (velocities)
-inline Fixed to_fixed(double x) {
-  // two int64 limbs: hi = trunc(x 2^20), the rest (exact) times 2^40
-  double const y = x * 1048576.;                  // 2^20, exact
-  auto const hi = static_cast<std::int64_t>(y);   // |y| < 2^59
-  double const r = y - static_cast<double>(hi);   // exact, |r| < 1
-  auto const lo = static_cast<std::int64_t>(r * 1099511627776.); // 2^40
-  return (static_cast<Fixed>(hi) << 40) + lo;
+// The cell sums are exact: a term x (|x| < 2^20) is split into two
+// integer-valued doubles, hi = round(x 2^20) and lo = round((x 2^20 - hi) 2^40)
+// (the rounding by adding and subtracting 1.5 2^52), i.e. x cut to a
+// multiple of 2^-60 (a fixed function of x; it moves x by < 1e-18). Sums of
+// such integers stay exact in double precision (|hi| < 2^40, |lo| <= 2^39,
+// fewer than 2^13 terms: below 2^53), so a sum does not depend on the order of
+// its terms, and a cell split between MPI ranks (partial sums added in any
+// order) gets the same bits as on one rank: the trajectory does not depend
+// on the number of ranks at all (doc/srd.md, "Parallel runs").
+constexpr double kMagic = 6755399441055744.; // 1.5 2^52
+constexpr double kTermLimit = 1048576.;      // 2^20
+constexpr int kCellLimit = 1 << 13;
+inline void add_exact(double x, double *s) {
+  double const y = x * 1048576.; // 2^20, exact
+  double const h = (y + kMagic) - kMagic;
+  s[0] += h;
+  s[1] += ((y - h) * 1099511627776. + kMagic) - kMagic; // y - h exact, times 2^40
 }
-inline double from_fixed(Fixed X) {
-  // a fixed function of the bits (the same on every rank)
-  auto const hi = static_cast<std::int64_t>(X >> 64);
-  auto const lo = static_cast<std::uint64_t>(X);
-  return (static_cast<double>(hi) * 18446744073709551616. + static_cast<double>(lo)) *
-         8.673617379884035e-19; // 2^-60
-}
+inline double exact_value(double const *s) { return s[0] * 9.5367431640625e-07 + s[1] * 8.673617379884035e-19; }
 
 struct SrdRecord {
   Vector3d pos, v;
@@ -349,40 +345,18 @@ void Fluid::collide(System &s) {
 
   // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
   bool too_fast = false; // a term beyond the range of the exact sums
-  auto fx = [&too_fast](double x) {
-    too_fast |= !(std::abs(x) < kFixLimit);
-    return to_fixed(x);
-  };
-  auto sums_A = [&](int b, int e, Fixed *A) {
-    std::fill(A, A + (ang ? nA : at ? 7 : 4), Fixed{0});
-    A[0] = static_cast<Fixed>(e - b) << 60;
-    {
-      // the velocities: two limbs, each an integer held exactly in a double
-      // (rounded with the 1.5 2^52 trick; |v| < 2^15: |hi| < 2^35, |lo| <=
-      // 2^39, so their sums over < 2^13 particles are exact integers in
-      // double precision, whatever the order)
-      constexpr double magic = 6755399441055744.; // 1.5 2^52
-      double h[3] = {0., 0., 0.}, l[3] = {0., 0., 0.};
-      double big = 0.;
-      for (int i = b; i < e; ++i)
-        for (int d = 0; d < 3; ++d) {
-          double const x = v[i][d];
-          big = std::max(big, std::abs(x));
-          double const y = x * 1048576.;
-          double const hi = (y + magic) - magic;
-          h[d] += hi;
-          l[d] += ((y - hi) * 1099511627776. + magic) - magic;
-        }
-      too_fast |= !(big < kVLimit) || e - b >= (1 << 13);
+  auto sums_A = [&](int b, int e, double *A) {
+    std::fill(A, A + (ang ? nA : at ? 13 : 7), 0.);
+    A[0] = e - b;
+    for (int i = b; i < e; ++i)
       for (int d = 0; d < 3; ++d)
-        A[1 + d] = (static_cast<Fixed>(static_cast<std::int64_t>(h[d])) << 40) + static_cast<std::int64_t>(l[d]);
-    }
+        add_exact(v[i][d], A + 1 + 2 * d); // |v| < 2^20: checked below, before the cell loop
     if (at)
       for (int i = b; i < e; ++i) {
         auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_at, c, static_cast<std::uint64_t>(id[i]), 0);
         m_xi[i] = sig * Vector3d{r[0], r[1], r[2]};
         for (int d = 0; d < 3; ++d)
-          A[4 + d] += fx(m_xi[i][d]);
+          add_exact(m_xi[i][d], A + 7 + 2 * d);
       }
     if (ang)
       for (int i = b; i < e; ++i) {
@@ -390,55 +364,66 @@ void Fluid::collide(System &s) {
         for (int d = 0; d < 3; ++d) {
           double const y = pos[i][d] - shift[d];
           m_r[i][d] = y - a0 * std::floor(y / a0);
-          A[7 + d] += fx(m_r[i][d]);
+          add_exact(m_r[i][d], A + 13 + 2 * d);
         }
       }
+    too_fast |= e - b >= kCellLimit;
   };
   struct Mean {
     double nc;
     Vector3d u, xm, rc;
   };
-  auto means = [at, ang](Fixed const *A) {
-    Mean m{static_cast<double>(static_cast<std::int64_t>(A[0] >> 60)), {}, {}, {}};
+  auto means = [at, ang](double const *A) {
+    Mean m{A[0], {}, {}, {}};
     double const inv = 1. / m.nc;
     for (int d = 0; d < 3; ++d) {
-      m.u[d] = from_fixed(A[1 + d]) * inv;
+      m.u[d] = exact_value(A + 1 + 2 * d) * inv;
       if (at)
-        m.xm[d] = from_fixed(A[4 + d]) * inv;
+        m.xm[d] = exact_value(A + 7 + 2 * d) * inv;
       if (ang)
-        m.rc[d] = from_fixed(A[7 + d]) * inv;
+        m.rc[d] = exact_value(A + 13 + 2 * d) * inv;
     }
     return m;
   };
   // first half: rotation (rule srd), local B sums
-  auto stage1 = [&](int g, int b, int e, Mean const &m, Fixed *B) {
-    std::fill(B, B + nB, Fixed{0});
+  auto stage1 = [&](int g, int b, int e, Mean const &m, double *B) {
+    std::fill(B, B + nB, 0.);
     if (!at) {
       Vector3d const axis = random_axis(m_p.seed, c, static_cast<std::uint64_t>(g));
       for (int i = b; i < e; ++i)
         v[i] = m.u + rotate(v[i] - m.u, axis, ca, sa);
-      if (thermo)
-        for (int i = b; i < e; ++i)
-          B[0] += fx((v[i] - m.u).norm2());
+      if (thermo) {
+        double big = 0.;
+        for (int i = b; i < e; ++i) {
+          double const e2 = (v[i] - m.u).norm2();
+          big = e2 > big || e2 != e2 ? e2 : big; // keeps a NaN
+          add_exact(e2, B);
+        }
+        too_fast |= !(big < kTermLimit);
+      }
     } else if (ang) {
+      double big = 0.;
       for (int i = b; i < e; ++i) {
         Vector3d const q = m_r[i] - m.rc;
         double const q2 = q.norm2();
         for (int x = 0; x < 3; ++x)
           for (int y = 0; y < 3; ++y)
-            B[1 + 3 * x + y] += fx((x == y ? q2 : 0.) - q[x] * q[y]);
+            add_exact((x == y ? q2 : 0.) - q[x] * q[y], B + 2 + 2 * (3 * x + y));
         Vector3d const dL = cross(q, v[i] - m.u - (m_xi[i] - m.xm));
-        for (int d = 0; d < 3; ++d)
-          B[10 + d] += fx(dL[d]);
+        for (int d = 0; d < 3; ++d) {
+          big = std::abs(dL[d]) > big || dL[d] != dL[d] ? std::abs(dL[d]) : big; // keeps a NaN
+          add_exact(dL[d], B + 20 + 2 * d);
+        }
       }
+      too_fast |= !(big < kTermLimit);
     }
   };
   // second half: thermostat scaling (srd) or the new velocities (AT)
-  auto stage2 = [&](int g, int b, int e, Mean const &m, Fixed const *B) {
+  auto stage2 = [&](int g, int b, int e, Mean const &m, double const *B) {
     if (thermo) {
       // scale relative velocities so the cell's relative kinetic energy is a
       // draw from its equilibrium Gamma(3(nc-1)/2, kT) distribution
-      double const e_now = 0.5 * m_p.mass * from_fixed(B[0]);
+      double const e_now = 0.5 * m_p.mass * exact_value(B);
       int const dof = 3 * (static_cast<int>(m.nc) - 1);
       double e_new = 0.;
       for (int k = 0; k < dof; k += 4) {
@@ -462,8 +447,8 @@ void Fluid::collide(System &s) {
       double I[3][3];
       for (int x = 0; x < 3; ++x)
         for (int y = 0; y < 3; ++y)
-          I[x][y] = from_fixed(B[1 + 3 * x + y]);
-      Vector3d const dL{from_fixed(B[10]), from_fixed(B[11]), from_fixed(B[12])};
+          I[x][y] = exact_value(B + 2 + 2 * (3 * x + y));
+      Vector3d const dL{exact_value(B + 20), exact_value(B + 22), exact_value(B + 24)};
       ok = solve3(I, dL, omega);
       if (!ok && m.nc == 2.) { // collinear pair: I = 2(q^2 - q q), dL is normal to q
         double const tr = I[0][0] + I[1][1] + I[2][2];
@@ -479,9 +464,17 @@ void Fluid::collide(System &s) {
     }
   };
 
+  {
+    // the range of the exact sums (one sweep, vectorised)
+    // (and non-finite velocities: a NaN fails every comparison)
+    bool ok = true;
+    for (int i = 0; i < n; ++i)
+      ok &= (std::abs(v[i][0]) < kTermLimit) & (std::abs(v[i][1]) < kTermLimit) & (std::abs(v[i][2]) < kTermLimit);
+    too_fast |= !ok;
+  }
   // local cells: everything at once; shared cells: their A sums collected
-  std::vector<Fixed> bufA(shared.size() * nA, Fixed{0}), bufB(shared.size() * nB, Fixed{0});
-  Fixed A[nA], B[nB];
+  std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
+  double A[nA], B[nB];
   for (int g = 0; g < n_cells; ++g) {
     int const b = m_count[g], e = m_count[g + 1];
     if (e == b)
@@ -501,9 +494,9 @@ void Fluid::collide(System &s) {
   }
   // shared cells: exchange the sums with the other touching ranks and add
   // them in rank order (the same bits on every touching rank)
-  auto exchange = [&](std::vector<Fixed> &buf, int nk) {
+  auto exchange = [&](std::vector<double> &buf, int nk) {
     int const me = comm.rank();
-    std::vector<std::vector<Fixed>> send(comm.size());
+    std::vector<std::vector<double>> send(comm.size());
     for (int q = 0; q < comm.size(); ++q)
       for (int sl : peer_cells[q])
         send[q].insert(send[q].end(), buf.begin() + static_cast<std::ptrdiff_t>(sl) * nk,
@@ -516,11 +509,11 @@ void Fluid::collide(System &s) {
                                   " sent " + std::to_string(recv[q].size()) + " shared-cell sums, rank " +
                                   std::to_string(me) + " expected " + std::to_string(send[q].size()) +
                                   " (internal error)");
-    std::vector<Fixed> tot(static_cast<std::size_t>(nk));
+    std::vector<double> tot(static_cast<std::size_t>(nk));
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      std::fill(tot.begin(), tot.end(), Fixed{0});
+      std::fill(tot.begin(), tot.end(), 0.);
       for (int r : shared_ranks[k]) {
-        Fixed const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
+        double const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
         for (int x = 0; x < nk; ++x)
           tot[x] += src[x];
         if (r != me)
@@ -533,8 +526,9 @@ void Fluid::collide(System &s) {
     exchange(bufA, nA);
     std::vector<Mean> ms(shared.size());
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      Fixed const *Ak = &bufA[k * nA];
-      if ((Ak[0] >> 60) < 2)
+      double const *Ak = &bufA[k * nA];
+      too_fast |= !(Ak[0] < kCellLimit);
+      if (Ak[0] < 2.)
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
@@ -543,7 +537,7 @@ void Fluid::collide(System &s) {
     if (thermo || ang)
       exchange(bufB, nB);
     for (std::size_t k = 0; k < shared.size(); ++k) {
-      if ((bufA[k * nA] >> 60) < 2)
+      if (bufA[k * nA] < 2.)
         continue;
       int const g = shared[k];
       if (m_count[g + 1] > m_count[g])
@@ -552,9 +546,10 @@ void Fluid::collide(System &s) {
   }
   if (comm.any(too_fast))
     throw Utils::RuntimeError("SRD collision " + std::to_string(c) +
-                              ": an SRD velocity (or a cell sum term) is not finite or beyond 2^39 "
-                              "(likely cause: a blow-up, e.g. a too large drive or colloid force, or "
-                              "velocities set by hand); the collision's sums cannot be exact");
+                              ": an SRD velocity (or a cell sum term) is not finite or beyond 2^20, or a "
+                              "collision cell holds more than 8192 particles (likely cause: a blow-up, e.g. "
+                              "a too large drive or colloid force, or velocities set by hand); the "
+                              "collision's sums cannot be exact");
   // the cell index for the colloid search of the next streaming steps
   double v2max = 0.;
   for (int i = 0; i < n; ++i)
