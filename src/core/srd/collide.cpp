@@ -69,15 +69,22 @@ bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
 // B = [e (2), I (9 x 2), dL (3 x 2)].
 constexpr int nA = 19, nB = 26;
 
-// The cell sums are exact: a term x (|x| < 2^20) is split into two
-// integer-valued doubles, hi = round(x 2^20) and lo = round((x 2^20 - hi) 2^40)
-// (the rounding by adding and subtracting 1.5 2^52), i.e. x cut to a
-// multiple of 2^-60 (a fixed function of x; it moves x by < 1e-18). Sums of
+// The cell sums are exact: a term x (|x| < 2^20) is cut to a multiple of
+// 2^-60 (the velocities: 2^-45, below), held as two integer-valued doubles
+// hi = round(x 2^20), lo = round((x 2^20 - hi) 2^40), rounded to nearest
+// (even) by adding and subtracting 1.5 2^52: a fixed function of x. Sums of
 // such integers stay exact in double precision (|hi| < 2^40, |lo| <= 2^39,
-// fewer than 2^13 terms: below 2^53), so a sum does not depend on the order of
-// its terms, and a cell split between MPI ranks (partial sums added in any
+// fewer than 2^13 terms: below 2^53), so a sum does not depend on the order
+// of its terms, and a cell split between MPI ranks (partial sums added in any
 // order) gets the same bits as on one rank: the trajectory does not depend
 // on the number of ranks at all (doc/srd.md, "Parallel runs").
+// The velocity sums (the hot loop) are cut to 2^-45 (a momentum error per
+// particle and collision < 1.5e-14, below the tests' 1e-13): two limbs
+// hi = round(v 2^20), lo = round((v 2^20 - hi) 2^25) (hi 2^25 + lo =
+// round(v 2^45), hi 2^25 being even), or, where that is exact (|v| < 64 and
+// n max|v| < 256), one limb round(v 2^45) in lo and 0 in hi: its value
+// lo 2^-45 is exact, and the two-limb value hi 2^-20 + lo 2^-45 (rounded
+// once) is then the same bits, so either form may be used by any rank.
 constexpr double kMagic = 6755399441055744.; // 1.5 2^52
 constexpr double kTermLimit = 1048576.;      // 2^20
 constexpr int kCellLimit = 1 << 13;
@@ -88,6 +95,13 @@ inline void add_exact(double x, double *s) {
   s[1] += ((y - h) * 1099511627776. + kMagic) - kMagic; // y - h exact, times 2^40
 }
 inline double exact_value(double const *s) { return s[0] * 9.5367431640625e-07 + s[1] * 8.673617379884035e-19; }
+inline void add_exact_v(double x, double *s) {
+  double const y = x * 1048576.;
+  double const h = (y + kMagic) - kMagic;
+  s[0] += h;
+  s[1] += ((y - h) * 33554432. + kMagic) - kMagic; // times 2^25
+}
+inline double exact_value_v(double const *s) { return s[0] * 9.5367431640625e-07 + s[1] * 2.842170943040401e-14; }
 
 struct SrdRecord {
   Vector3d pos, v;
@@ -175,7 +189,10 @@ void Fluid::collide(System &s) {
       glob[d][l] = k;
     }
   }
+  bool const identity = ldim == gdim && ax[0].mode != 1 && ax[1].mode != 1 && ax[2].mode != 1;
   auto global_of = [&](int lc) {
+    if (identity) // the whole box (one rank, or an axis not split): local = global
+      return lc;
     int const l2 = lc % ldim[2], l1 = (lc / ldim[2]) % ldim[1], l0 = lc / (ldim[1] * ldim[2]);
     return (glob[0][l0] * gdim[1] + glob[1][l1]) * gdim[2] + glob[2][l2];
   };
@@ -218,9 +235,16 @@ void Fluid::collide(System &s) {
     m_order[m_start[m_cell[i]]++] = i;
   // permute the arrays into cell order (contiguous cells; streaming stays sequential)
   m_p2.resize(n), m_v2.resize(n), m_id2.resize(n), m_t2.resize(n);
+  // (and the range of the exact cell sums below: the largest |v component|;
+  // a NaN fails every comparison)
+  double v_big = 0.;
+  bool v_ok = true;
   for (int k = 0; k < n; ++k) {
     int const i = m_order[k];
     m_p2[k] = pos[i], m_v2[k] = v[i], m_id2[k] = id[i], m_t2[k] = type[i];
+    double const ax = std::abs(v[i][0]), ay = std::abs(v[i][1]), az = std::abs(v[i][2]);
+    v_big = std::max(v_big, std::max(ax, std::max(ay, az)));
+    v_ok &= (ax < kTermLimit) & (ay < kTermLimit) & (az < kTermLimit);
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
 
@@ -345,12 +369,24 @@ void Fluid::collide(System &s) {
 
   // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
   bool too_fast = false; // a term beyond the range of the exact sums
-  auto sums_A = [&](int b, int e, double *A) {
+  double vmax = 0.;       // largest |v component| of this rank (one-limb velocity sums)
+  auto sums_A = [&](int b, int e, double *A, bool shared_cell) {
     std::fill(A, A + (ang ? nA : at ? 13 : 7), 0.);
     A[0] = e - b;
-    for (int i = b; i < e; ++i)
-      for (int d = 0; d < 3; ++d)
-        add_exact(v[i][d], A + 1 + 2 * d); // |v| < 2^20: checked below, before the cell loop
+    // |v| < 2^20: checked in one sweep before the cell loop (vmax)
+    if (!shared_cell && vmax < 64. && (e - b) * vmax < 256.) {
+      double s0 = 0., s1 = 0., s2 = 0.; // one limb: round(v 2^45), exact sums below 2^53
+      for (int i = b; i < e; ++i) {
+        s0 += (v[i][0] * 35184372088832. + kMagic) - kMagic;
+        s1 += (v[i][1] * 35184372088832. + kMagic) - kMagic;
+        s2 += (v[i][2] * 35184372088832. + kMagic) - kMagic;
+      }
+      A[2] = s0, A[4] = s1, A[6] = s2;
+    } else {
+      for (int i = b; i < e; ++i)
+        for (int d = 0; d < 3; ++d)
+          add_exact_v(v[i][d], A + 1 + 2 * d);
+    }
     if (at)
       for (int i = b; i < e; ++i) {
         auto const r = gauss4(m_p.seed, Utils::RNGSalt::srd_at, c, static_cast<std::uint64_t>(id[i]), 0);
@@ -377,7 +413,7 @@ void Fluid::collide(System &s) {
     Mean m{A[0], {}, {}, {}};
     double const inv = 1. / m.nc;
     for (int d = 0; d < 3; ++d) {
-      m.u[d] = exact_value(A + 1 + 2 * d) * inv;
+      m.u[d] = exact_value_v(A + 1 + 2 * d) * inv;
       if (at)
         m.xm[d] = exact_value(A + 7 + 2 * d) * inv;
       if (ang)
@@ -464,14 +500,8 @@ void Fluid::collide(System &s) {
     }
   };
 
-  {
-    // the range of the exact sums (one sweep, vectorised)
-    // (and non-finite velocities: a NaN fails every comparison)
-    bool ok = true;
-    for (int i = 0; i < n; ++i)
-      ok &= (std::abs(v[i][0]) < kTermLimit) & (std::abs(v[i][1]) < kTermLimit) & (std::abs(v[i][2]) < kTermLimit);
-    too_fast |= !ok;
-  }
+  too_fast |= !v_ok;
+  vmax = v_ok ? v_big : INFINITY; // INFINITY: two limbs (the collision stops anyway)
   // local cells: everything at once; shared cells: their A sums collected
   std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
   double A[nA], B[nB];
@@ -481,12 +511,12 @@ void Fluid::collide(System &s) {
       continue;
     int const sl = slot_of(g);
     if (sl >= 0) {
-      sums_A(b, e, &bufA[static_cast<std::size_t>(sl) * nA]);
+      sums_A(b, e, &bufA[static_cast<std::size_t>(sl) * nA], true);
       continue;
     }
     if (e - b < 2)
       continue; // one particle: nothing to exchange
-    sums_A(b, e, A);
+    sums_A(b, e, A, false);
     auto const m = means(A);
     int const gg = global_of(g);
     stage1(gg, b, e, m, B);
