@@ -67,11 +67,6 @@ out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
            box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
            eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max)
-if info["n_colloids"]:
-    c = s.part.by_ids(info["colloid_ids"])
-    out["colloid_kT"] = float(np.mean(np.asarray(c.mass)[:, None] * np.asarray(c.v) ** 2))
-    if args.boundary == "stick":
-        out["colloid_kT_rot"] = float(np.mean(np.asarray(c.rinertia) * np.asarray(c.omega_lab) ** 2))
 out["cpu_s"] = time.process_time() - t0
 print(json.dumps(out))
 print(f"phi = {out['phi']:.4f} ({out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "

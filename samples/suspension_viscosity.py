@@ -31,6 +31,10 @@ against Batchelor's 1.32); the error falls as 1/sqrt(time). The default run
 (~2300 particles, 1000 time units per scene) takes about 2-3 minutes per scene
 on one idle core.
 
+``--boundary stick`` makes the colloids rotating no-slip spheres (setup_suspension's
+surface_friction, doc/suspensions.md section 7c); the default "slip" is seed 004's
+colloid, whose central colloid-solvent friction makes it a slipping sphere (section 7b).
+
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
 not developed then; the numbers are noise).
