@@ -31,6 +31,8 @@ parser.add_argument("--equil", type=float, default=20.0)
 parser.add_argument("--g", type=float, default=0.02)
 parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--seed", type=int, default=11)
+parser.add_argument("--no-colloid-dpd", action="store_true", help="no DPD between colloids (seed 004 has it)")
+parser.add_argument("--no-lubrication", action="store_true", help="no squeeze lubrication (seed 004 has it)")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 args = parser.parse_args()
 
@@ -44,7 +46,7 @@ s = marble.System(box_l=box)
 s.time_step = args.dt
 s.cell_system.skin = 0.4
 if args.phi > 0:
-    kw = dict(boundary=args.boundary)
+    kw = dict(boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
         kw["trans_gamma"] = args.trans_gamma
     info = sus.setup_suspension(s, phi=args.phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
@@ -66,7 +68,8 @@ res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5, m
 out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
            box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
-           eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max)
+           eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max,
+           colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
 out["cpu_s"] = time.process_time() - t0
 print(json.dumps(out))
 print(f"phi = {out['phi']:.4f} ({out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "
