@@ -9,6 +9,8 @@ its volume fraction is 0.05; Shardlow, dt = 0.01.
 
 - ``--part eta``: the solvent's viscosity by reverse Poiseuille (box 7 x 7 x 10,
   g = 0.02, the same solvent settings and dt).
+- ``--part rot`` (with ``--boundary stick``): rotational equipartition
+  <I w^2>/3 = kT and the rotational diffusion (1/3) int <w(0).w(t)> dt, blocking errors.
 - ``--part drag``: D by drag (marble.diffusion.measure_drag: a constant force
   on the colloid, the opposite force spread over the solvent; D = kT v / F),
   with the error the larger of the blocking error and sqrt(2 D / T).
@@ -18,6 +20,8 @@ its volume fraction is 0.05; Shardlow, dt = 0.01.
 
     ./pymarble bench/suspension_hasimoto.py --part eta --time 1500
     ./pymarble bench/suspension_hasimoto.py --part drag --time 3000 --seed 1
+    ./pymarble bench/suspension_hasimoto.py --part drag --boundary stick --time 3000 --seed 1
+    ./pymarble bench/suspension_hasimoto.py --part rot --boundary stick --time 2000 --seed 2
     ./pymarble bench/suspension_hasimoto.py --part compare --eta 0.3227 0.0069 --D 0.0156 0.0002
 
 The runs of doc/suspensions.md section 7b are in bench/results/suspension_hasimoto.jsonl.
@@ -35,7 +39,11 @@ import marble.suspensions as sus
 from marble import theory
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-parser.add_argument("--part", choices=["eta", "drag", "compare"], required=True)
+parser.add_argument("--part", choices=["eta", "drag", "rot", "compare"], required=True)
+parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
+                    help="setup_suspension's boundary (stick: rotating colloids with the surface_friction kernel)")
+parser.add_argument("--stick-gamma", type=float, default=None,
+                    help="stick: the surface_friction's gamma (default setup_suspension's 45)")
 parser.add_argument("--time", type=float, default=1000.0, help="production time")
 parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--force", type=float, default=0.5, help="drag force on the colloid")
@@ -58,8 +66,11 @@ def colloid_box():
     s = marble.System(box_l=[L] * 3)
     s.time_step = args.dt
     s.cell_system.skin = 0.4
+    kw = dict(boundary=args.boundary)
+    if args.boundary == "stick" and args.stick_gamma is not None:
+        kw["trans_gamma"] = args.stick_gamma
     info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
-                                positions=[[L / 2] * 3])
+                                positions=[[L / 2] * 3], **kw)
     if args.trans_gamma > 0:
         marble.assert_features("TRANS_DPD")
         s.non_bonded_inter[1, 0].dpd.set_params(
@@ -110,9 +121,45 @@ elif args.part == "drag":
                        delta_N=10, kT=KT)
     err = max(res.D_err, KT * math.sqrt(2 * max(res.D, 0) / args.time) / args.force)
     out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force, trans_gamma=args.trans_gamma,
+               boundary=args.boundary, stick_gamma=info.get("trans_gamma"),
                n_solvent=info["n_solvent"])
     print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "
           f"(blocking {res.D_err:.5f}), v = {res.v:.4f}")
+elif args.part == "rot":
+    # stick: rotational equipartition <I w^2>/3 = kT and the rotational diffusion
+    # D_r = (1/3) int <w(0) . w(t)> dt (to t_max = 10) against kT/(8 pi eta R^3)
+    s, info = colloid_box()
+    zero_momentum(s)
+    s.integrator.run(int(round(20.0 / args.dt)))
+    c = s.part.by_ids(info["colloid_ids"])
+    every = 5
+    n = int(round(args.time / (every * args.dt)))
+    w = np.empty((n, 3))
+    v = np.empty((n, 3))
+    for k in range(n):
+        s.integrator.run(every)
+        w[k] = c.omega_lab[0]
+        v[k] = c.v[0]
+    I_rot, M = float(info["rinertia"] or 0.0), float(info["colloid_mass"])
+    nb, tmax = 10, 10.0
+    lag = int(round(tmax / (every * args.dt)))
+    blocks = np.array_split(np.arange(n), nb)
+    ke_r = np.array([I_rot * np.mean(w[b] ** 2) / KT for b in blocks])
+    ke_t = np.array([M * np.mean(v[b] ** 2) / KT for b in blocks])
+
+    def acf_integral(x):
+        x = x - 0.0  # the spin has no mean: no subtraction
+        f = np.fft.rfft(x, n=2 * len(x), axis=0)
+        acf = np.fft.irfft(f * np.conj(f), axis=0)[:lag + 1].sum(axis=1) / (len(x) - np.arange(lag + 1))
+        return every * args.dt * (acf.sum() - 0.5 * acf[0] - 0.5 * acf[-1]) / 3.0
+
+    Dr = np.array([acf_integral(w[b]) for b in blocks])
+    sq = math.sqrt(nb)
+    out.update(kT_rot=ke_r.mean(), kT_rot_err=ke_r.std(ddof=1) / sq, kT_trans=ke_t.mean(),
+               kT_trans_err=ke_t.std(ddof=1) / sq, D_r=Dr.mean(), D_r_err=Dr.std(ddof=1) / sq,
+               boundary=args.boundary, rinertia=I_rot, tmax=tmax)
+    print(f"<I w^2>/(3 kT) = {out['kT_rot']:.4f} +/- {out['kT_rot_err']:.4f}, <M v^2>/(3 kT) = "
+          f"{out['kT_trans']:.4f} +/- {out['kT_trans_err']:.4f}, D_r = {out['D_r']:.5f} +/- {out['D_r_err']:.5f}")
 else:
     eta, eta_err = args.eta
     D, D_err = args.D

@@ -22,7 +22,7 @@ Prints eta_0, eta(phi), eta_r(phi) with error bars and the two theories, and
 writes suspension_viscosity.png.
 
     build/pymarble samples/suspension_viscosity.py [--box 8 8 12] [--time 1000]
-        [--phi 0.05 0.1 0.2 0.3] [--g 0.02]
+        [--phi 0.05 0.1 0.2 0.3] [--g 0.02] [--boundary stick]
 
 Statistics (doc/suspensions.md section 7): at box 7 x 7 x 10, g = 0.02 and 300
 time units per scene eta has a blocking error of about 6 % per scene
@@ -30,6 +30,10 @@ time units per scene eta has a blocking error of about 6 % per scene
 against Batchelor's 1.32); the error falls as 1/sqrt(time). The default run
 (~2300 particles, 1000 time units per scene) takes about 2-3 minutes per scene
 on one idle core.
+
+``--boundary stick`` makes the colloids rotating no-slip spheres (setup_suspension's
+surface_friction, doc/suspensions.md section 7c); the default "slip" is seed 004's
+colloid, whose central colloid-solvent friction makes it a slipping sphere (section 7b).
 
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
@@ -61,6 +65,11 @@ parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--seed-contact", action="store_true",
                     help="seed 004's contact force (f_c = 1e4 kT, delta = 1e-3; use dt = 1e-3)")
 parser.add_argument("--seed", type=int, default=11)
+parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
+                    help="slip: seed 004's colloids (central friction); stick: rotating colloids with "
+                         "the tangential surface_friction (doc/suspensions.md section 7c)")
+parser.add_argument("--trans-gamma", type=float, default=None,
+                    help="stick: the tangential friction (default setup_suspension's 45)")
 parser.add_argument("--png", default="suspension_viscosity.png")
 args = parser.parse_args()
 
@@ -69,6 +78,11 @@ marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL
 R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 box = np.array(args.box, dtype=float)
 contact = {} if args.seed_contact else dict(f_contact=50.0, delta=0.02)
+stick = dict(boundary=args.boundary)
+if args.boundary == "stick" and args.trans_gamma is not None:
+    stick["trans_gamma"] = args.trans_gamma
+if args.boundary == "stick":
+    marble.assert_features("TRANS_DPD", "ROTATION")
 
 
 def scene(phi):
@@ -77,7 +91,7 @@ def scene(phi):
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=args.seed, h_cut=1.0, **contact)
+                                    seed=args.seed, h_cut=1.0, **contact, **stick)
     else:  # the solvent alone: setup_suspension's solvent without the colloid
         info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
                                     seed=args.seed, positions=[0.5 * box], **contact)
@@ -130,7 +144,7 @@ ph = np.linspace(0.0, max(0.35, max(r[0] for r in rows)), 100)
 ax.plot(ph, theory.batchelor_viscosity(ph), "-", label="Batchelor 1 + 2.5 phi + 6.2 phi^2")
 ax.plot(ph, theory.krieger_dougherty_viscosity(ph), "--", label="Krieger-Dougherty, phi_m = 0.63")
 ax.errorbar([r[0] for r in rows], [r[1] for r in rows], yerr=[r[2] for r in rows], fmt="o",
-            label="core-modified DPD (reverse Poiseuille)")
+            label=f"core-modified DPD, {args.boundary} colloids (reverse Poiseuille)")
 ax.set_xlabel("phi")
 ax.set_ylabel("eta / eta_0")
 ax.set_title("Suspension viscosity, seed 004 model")

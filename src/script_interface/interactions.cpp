@@ -91,6 +91,8 @@ char const *role_name(Marble::KernelRole r) {
     return "wall_surface";
   case Marble::KernelRole::srd_boundary:
     return "srd_boundary";
+  case Marble::KernelRole::rotational_pair:
+    return "rotational_pair";
   }
   return "?";
 }

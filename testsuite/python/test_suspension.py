@@ -109,7 +109,11 @@ class Setup(unittest.TestCase):
                  (dict(h_cut=-0.5), "h_cut"), (dict(h_min=0.5, h_cut=0.4), "h_min"),
                  (dict(eta=None), "eta"), (dict(eta=-1.0), "eta"),
                  (dict(positions=[[1, 1, 1], [2.5, 1, 1]]), "positions"),
-                 (dict(seed=None), "seed")]
+                 (dict(seed=None), "seed"), (dict(boundary="rough"), "boundary"),
+                 (dict(trans_gamma=45.0), "trans_gamma")]
+        if marble.has_features("TRANS_DPD", "ROTATION"):
+            cases += [(dict(boundary="stick", trans_gamma=-1.0), "trans_gamma"),
+                      (dict(boundary="stick", rinertia=0.0), "rinertia")]
         for extra, key in cases:
             with self.subTest(key=key, extra=extra):
                 s = self.system()
@@ -118,6 +122,33 @@ class Setup(unittest.TestCase):
                 self.assertEqual(len(s.part.all()), 0)
                 self.assertEqual(s.non_bonded_inter[1, 1].contact.get_params(), {})
                 self.assertFalse(s.thermostat.dpd.active)
+
+    def test_stick(self):
+        """boundary="slip" is seed 004 (no spins, no surface friction); "stick" keeps
+        the positions and velocities and adds rotating colloids and the surface friction."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=3, h_cut=0.4)
+        s1, s2 = self.system(), self.system()
+        i1 = sus.setup_suspension(s1, **kw)
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            with self.assertRaises(marble.FeaturesError):
+                sus.setup_suspension(s2, boundary="stick", **kw)
+            return
+        i2 = sus.setup_suspension(s2, boundary="stick", **kw)
+        for prop in ("pos", "v", "type", "mass"):
+            np.testing.assert_array_equal(getattr(s1.part.all(), prop), getattr(s2.part.all(), prop))
+        c1, c2 = s1.part.by_ids(i1["colloid_ids"]), s2.part.by_ids(i2["colloid_ids"])
+        self.assertFalse(np.any(c1.rotation))
+        self.assertEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params(), {})
+        self.assertTrue(np.all(c2.rotation))
+        np.testing.assert_allclose(c2.rinertia, 0.4 * i2["colloid_mass"])
+        self.assertGreater(np.std(c2.omega_lab), 0.0)
+        sf = s2.non_bonded_inter[1, 0].surface_friction.get_params()
+        self.assertEqual((sf["gamma"], sf["a1"], sf["a2"]), (45.0, 1.0, 0.0))
+        self.assertAlmostEqual(sf["r_cut"], i2["cutoff_surface"], places=12)
+        self.assertEqual(i2["trans_gamma"], 45.0)
+        s2.integrator.set_shardlow()
+        s2.integrator.run(200)
+        self.assertTrue(np.all(np.isfinite(s2.part.all().pos)))
 
     def test_positions(self):
         s = self.system()

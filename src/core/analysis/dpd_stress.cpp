@@ -7,6 +7,7 @@
 // noise (s w xi) are returned separately; their sum is the total.
 #include "system/System.hpp"
 #include "forces/pair_traversal.hpp"
+#include "nonbonded/surface_friction_apply.hpp"
 
 #include <cmath>
 
@@ -41,6 +42,11 @@ DPDStress System::dpd_stress() {
         out.noise[3 * x + y] += d[x] * f_noise[y] / V;
       }
   });
+#ifdef TRANS_DPD
+  // the stick friction (nonbonded/surface_friction.hpp), with the same convention
+  if (m_ia.any_active<SurfaceFriction>())
+    surface_friction_virial(m_ps, m_cells.pairs(), m_ia, noise, V, out.friction, out.noise);
+#endif
   m_comm.sum_inplace(out.friction.data(), 9);
   m_comm.sum_inplace(out.noise.data(), 9);
 #endif

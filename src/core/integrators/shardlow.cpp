@@ -31,6 +31,7 @@
 #include "integrators/dpd_integrators.hpp"
 #include "forces/pair_traversal.hpp"
 #include "integrators/stability.hpp"
+#include "nonbonded/surface_friction_apply.hpp"
 #include "system/System.hpp"
 #include "utils/errors.hpp"
 #include "utils/noise.hpp"
@@ -73,6 +74,9 @@ void shardlow_sweep(System &sys) {
   NoiseContext const noise = sys.noise_context(true);
   double const kT = sys.thermostat().dpd.kT;
   std::array<Vector3d, kPairBlock> xi;
+#ifdef TRANS_DPD
+  bool const any_sf = ia.any_active<SurfaceFriction>();
+#endif
 #ifdef LUBRICATION
   std::array<Vector3d, kPairBlock> xi_lub;
   bool const any_lub = ia.any_active<Lubrication>();
@@ -138,6 +142,15 @@ void shardlow_sweep(System &sys) {
         ps.v[oi] += dp / mi;
         ps.v[oj] -= dp / mj;
       }();
+#ifdef TRANS_DPD
+      // the stick friction's exact update of the pair's tangential contact
+      // velocity, spins included (nonbonded/surface_friction_apply.hpp)
+      if (any_sf) {
+        SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
+        if (sp.active)
+          surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise);
+      }
+#endif
 #ifdef LUBRICATION
       // then the pair's lubrication, its own exact OU step along e (rate
       // a_sq/mu; composing the two OU steps is exact: both keep the variance

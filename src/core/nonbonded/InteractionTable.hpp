@@ -43,7 +43,11 @@ public:
     get(i, j).template get<K>() = kp;
     get(i, j).update_cutoff();
     if constexpr (!is_ordered(K::role)) {
-      get(j, i).template get<K>() = kp;
+      // a symmetric kernel with per-type parameters (radii) stores them mirrored for (j, i)
+      if constexpr (requires { K::mirrored(kp); })
+        get(j, i).template get<K>() = K::mirrored(kp);
+      else
+        get(j, i).template get<K>() = kp;
       get(j, i).update_cutoff();
     }
     refresh();

@@ -11,6 +11,7 @@
 #include "nonbonded/lennard_jones.hpp"
 #include "nonbonded/lubrication.hpp"
 #include "nonbonded/morse.hpp"
+#include "nonbonded/surface_friction.hpp"
 #include "srd/boundary_kernel.hpp"
 #include "thermostats/dpd.hpp"
 
@@ -21,6 +22,6 @@ template <class... Ks> struct TypeList {};
 // new kernels go after the existing ones of their role (the summation order of
 // existing scenes stays the same: testsuite/python/test_registry_regression.py)
 using AllKernels = TypeList<LennardJones, Hat, Morse, Contact, DPDPair, Lubrication, MarbleSurface,
-                            TunableSlip, SRDBoundary>;
+                            TunableSlip, SRDBoundary, SurfaceFriction>;
 
 } // namespace Marble

@@ -27,6 +27,7 @@ template <template <class> class Pred, class K, class... Ks> struct Filter<Pred,
 };
 template <class K> struct IsCompiled : std::bool_constant<compiled<K>> {};
 template <class K> struct IsPairLoop : std::bool_constant<compiled<K> && in_pair_loop(K::role)> {};
+template <class K> struct IsMainList : std::bool_constant<compiled<K> && in_main_list(K::role)> {};
 template <class L> struct ParamTuple;
 template <class... Ks> struct ParamTuple<TypeList<Ks...>> {
   using type = std::tuple<typename Ks::Params...>;
@@ -42,6 +43,8 @@ struct IndexOf<K, TypeList<J, Ks...>> : std::integral_constant<std::size_t, 1 + 
 using CompiledKernels = typename detail::Filter<detail::IsCompiled, AllKernels>::type;
 /** Kernels evaluated in the main Verlet-list loop (conservative and pair-dissipative). */
 using PairLoopKernels = typename detail::Filter<detail::IsPairLoop, AllKernels>::type;
+/** Kernels whose pairs the main Verlet list serves (the pair loop's and the rotational pair kernels). */
+using MainListKernels = typename detail::Filter<detail::IsMainList, AllKernels>::type;
 inline constexpr std::size_t n_pair_loop_kernels = detail::Size<PairLoopKernels>::value;
 /** Bit of kernel @p K in a pair-loop mask. */
 template <class K> inline constexpr unsigned pair_loop_bit = 1u << detail::IndexOf<K, PairLoopKernels>::value;
@@ -56,7 +59,7 @@ template <class L, class F> constexpr void for_each_kernel(F &&f) { ForEach<L>::
 /** Every kernel's parameters for one (ordered) pair of types. */
 struct IAParams {
   typename detail::ParamTuple<CompiledKernels>::type kernels{};
-  double max_cut = 0.;  // largest range of the active pair-loop kernels
+  double max_cut = 0.;  // largest range of the active main-list kernels
   double max_cut2 = 0.; // square of the range served by the main Verlet list
                         // (0 for pairs with a large particle type: see Colloids)
 
@@ -75,7 +78,7 @@ struct IAParams {
   }
   void update_cutoff() {
     max_cut = 0.;
-    for_each_kernel<PairLoopKernels>([&]<class K>() {
+    for_each_kernel<MainListKernels>([&]<class K>() {
       double const r = K::range(get<K>());
       max_cut = r > max_cut ? r : max_cut;
     });

@@ -1,4 +1,5 @@
 #include "system/System.hpp"
+#include "nonbonded/surface_friction_apply.hpp"
 #include "utils/errors.hpp"
 
 #include <algorithm>
@@ -92,6 +93,12 @@ void System::set_periodic(int d, bool p) {
 }
 
 void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
+#ifdef TRANS_DPD
+  // the rotational pair kernel (stick friction) on the main list's pairs: its
+  // own pass (spins and torques), explicit unless Shardlow updates it
+  if (with_thermostat && m_thermo.dpd.active && m_dpd_in_pair_loop && m_ia.any_active<SurfaceFriction>())
+    add_surface_friction_forces(m_ps, m_cells.pairs(), m_ia, noise_context(true));
+#endif
 #ifdef MARBLE
   if (m_colloids.any()) {
     m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat));

@@ -7,7 +7,9 @@ colloid interaction acts on the surface gap h = r - (a_i + a_j):
 - colloid-solvent: hat and DPD with offset R and the equal-volume surface
   cutoff r'_c = (r_c^3 + R^3)^(1/3) - R;
 - colloid-colloid: contact force, squeeze lubrication (FDT-consistent noise),
-  optional Morse attraction, and DPD on the gap (cutoff r_c).
+  optional Morse attraction, and DPD on the gap (cutoff r_c);
+- boundary="stick" (not seed 004): rotating colloids and the tangential
+  surface_friction kernel on the colloid-solvent pair (no-slip spheres).
 
     import marble, marble.suspensions as sus
     s = marble.System(box_l=[12.0] * 3)
@@ -111,7 +113,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                      r_cut=1.0, a_ss=None, a_cs=None, a_cs_rule="mean_field",
                      f_contact=None, delta=0.001, lubrication=True, h_cut=None, h_min=0.001,
                      log_term="off", morse=None, colloid_dpd=True,
-                     solvent_type=0, colloid_type=1, colloid_mass=None, positions=None):
+                     solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
+                     boundary="slip", trans_gamma=None, rinertia=None):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
@@ -123,6 +126,14 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
       (eta, h_cut = r_c, h_min, log_term), ``morse`` a dict of the Morse kernel's
       eps, alpha, rmin, cutoff (offset 2R added), DPD with ``gamma`` on every pair.
+    - ``boundary``: ``"slip"`` (default, seed 004 unchanged: the colloid-solvent
+      friction is central, so the colloids are slipping spheres, doc/suspensions.md
+      section 7b) or ``"stick"``: the colloids rotate (moment of inertia
+      ``rinertia``, default the uniform sphere's 2/5 M R^2, spins drawn at kT) and
+      the colloid-solvent pair gets the ``surface_friction`` kernel (tangential
+      friction ``trans_gamma``, default 45, on the same shell, relative velocity of
+      the colloid's rigid-body motion at the bead, torques on the colloid; needs
+      TRANS_DPD and ROTATION): no-slip spheres of radius R (section 7c).
     - The DPD thermostat at ``kT`` with ``seed``.
 
     The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
@@ -135,7 +146,15 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     large_range_types``, "auto" by default), so the solvent's cells keep the
     solvent's range (doc/architecture.md, "Two cell grids").
     """
+    if boundary not in ("slip", "stick"):
+        raise ValueError(f"parameter 'boundary' must be 'slip' or 'stick', got {boundary!r}")
+    if boundary == "slip" and (trans_gamma is not None or rinertia is not None):
+        raise ValueError("parameters 'trans_gamma' and 'rinertia' apply to boundary='stick' only")
+    if boundary == "stick":
+        trans_gamma = 45.0 if trans_gamma is None else _positive("trans_gamma", trans_gamma, allow_zero=True)
     assert_features("DPD", "HAT", "CONTACT", "MASS")
+    if boundary == "stick":
+        assert_features("TRANS_DPD", "ROTATION")
     if lubrication:
         assert_features("LUBRICATION")
     if morse:
@@ -197,6 +216,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
             raise ValueError(f"parameter 'phi': {phi} gives no colloid of radius {R} in volume {V:.4g}")
         cpos = place_colloids(L, n_col, R, rng, min_gap=delta)
     m_col = density * v_col if colloid_mass is None else _positive("colloid_mass", colloid_mass)
+    if boundary == "stick":
+        rinertia = 0.4 * m_col * R * R if rinertia is None else _positive("rinertia", rinertia)
     # solvent outside the cores
     n_try = int(rng.poisson(density * V))
     spos = rng.uniform(0, 1, size=(n_try, 3)) * L
@@ -209,6 +230,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     sigma_v = math.sqrt(kT) if kT > 0 else 0.0
     col = system.part.add(pos=cpos, type=[colloid_type] * n_col, mass=[m_col] * n_col,
                           v=rng.normal(size=(n_col, 3)) * sigma_v / math.sqrt(m_col))
+    if boundary == "stick":
+        # spins at kT from their own stream: positions and velocities stay those of "slip"
+        w_rng = np.random.default_rng([int(seed), 4])
+        col.rotation = np.ones((n_col, 3), bool)
+        col.rinertia = np.full((n_col, 3), rinertia)
+        col.omega_lab = w_rng.normal(size=(n_col, 3)) * sigma_v / math.sqrt(rinertia)
     sol = system.part.add(pos=spos, type=[solvent_type] * len(spos),
                           v=rng.normal(size=(len(spos), 3)) * sigma_v)
     s, c = solvent_type, colloid_type
@@ -223,6 +250,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         ia[c, s].dpd.set_params(weight_function=1, gamma=gamma, r_cut=rp, offset=R)
         if colloid_dpd:
             ia[c, c].dpd.set_params(weight_function=1, gamma=gamma, r_cut=r_cut, offset=2 * R)
+    if boundary == "stick" and trans_gamma > 0:
+        ia[c, s].surface_friction.set_params(gamma=trans_gamma, r_cut=rp, a1=R, a2=0.0)
     ia[c, c].contact.set_params(f_contact=f_contact, delta=delta, offset=2 * R)
     if lubrication:
         ia[c, c].lubrication.set_params(eta=eta, a1=R, a2=R, h_cut=h_cut, h_min=h_min,
@@ -234,4 +263,5 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
-                diffusion_time=diffusion_time(R, eta, kT) if (eta and kT > 0) else math.inf)
+                diffusion_time=diffusion_time(R, eta, kT) if (eta and kT > 0) else math.inf,
+                boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia)

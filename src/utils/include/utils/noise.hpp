@@ -26,6 +26,7 @@ enum class RNGSalt : std::uint64_t {
   srd_init = 10,    // SRD initial positions/velocities and relocation
   brownian = 11,    // Brownian dynamics (seed, step, particle id, 0 pos / 1 vel / 2 omega)
   lubrication = 16, // suspensions (nonbonded/lubrication.hpp)
+  surface_friction = 20, // stick colloids (nonbonded/surface_friction.hpp)
 };
 
 /** Four raw 64-bit words for counter @p step and keys. */

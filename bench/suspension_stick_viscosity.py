@@ -1,0 +1,79 @@
+"""One scene of the suspension viscosity measurement (doc/suspensions.md
+sections 7 and 7c): the scene of samples/suspension_viscosity.py (seed 004's
+solvent and colloids, R = 1, softer contact f_c = 50, delta = 0.02, squeeze
+lubrication eta0 = 0.3 with h_cut = 1, Shardlow dt = 0.01), sheared by the
+mass-proportional reverse Poiseuille flow; one scene per call so that the
+scenes run side by side, each appending a JSON line.
+
+    ./pymarble bench/suspension_stick_viscosity.py --phi 0 --time 3000 --json out.jsonl   # solvent
+    ./pymarble bench/suspension_stick_viscosity.py --phi 0.1 --boundary stick --time 3000 --json out.jsonl
+
+The runs quoted in doc/suspensions.md section 7c are in bench/results/suspension_stick.jsonl.
+"""
+import argparse
+import json
+import time
+
+import numpy as np
+
+import marble
+import marble.suspensions as sus
+from marble import theory
+from marble.viscosity import reverse_poiseuille
+
+parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+parser.add_argument("--phi", type=float, required=True, help="volume fraction (0: the solvent alone)")
+parser.add_argument("--boundary", choices=["slip", "stick"], default="slip")
+parser.add_argument("--trans-gamma", type=float, default=None, help="stick: tangential friction (default 45)")
+parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 10])
+parser.add_argument("--time", type=float, default=2000.0, help="production time")
+parser.add_argument("--equil", type=float, default=20.0)
+parser.add_argument("--g", type=float, default=0.02)
+parser.add_argument("--dt", type=float, default=0.01)
+parser.add_argument("--seed", type=int, default=11)
+parser.add_argument("--no-colloid-dpd", action="store_true", help="no DPD between colloids (seed 004 has it)")
+parser.add_argument("--no-lubrication", action="store_true", help="no squeeze lubrication (seed 004 has it)")
+parser.add_argument("--json", help="append the result (a JSON line) to this file")
+args = parser.parse_args()
+
+marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
+R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
+box = np.array(args.box, dtype=float)
+contact = dict(f_contact=50.0, delta=0.02)
+
+t0 = time.process_time()
+s = marble.System(box_l=box)
+s.time_step = args.dt
+s.cell_system.skin = 0.4
+if args.phi > 0:
+    kw = dict(boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
+    if args.boundary == "stick" and args.trans_gamma is not None:
+        kw["trans_gamma"] = args.trans_gamma
+    info = sus.setup_suspension(s, phi=args.phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
+                                h_cut=1.0, **contact, **kw)
+else:
+    info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
+                                positions=[0.5 * box], **contact)
+    s.part.by_ids(info["colloid_ids"]).remove()
+    s.non_bonded_inter.reset()
+    s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, r_cut=1.0)
+    info["n_colloids"], info["phi"] = 0, 0.0
+s.integrator.set_shardlow()
+p = s.part.all()
+v, m = np.asarray(p.v), np.asarray(p.mass)
+p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
+s.integrator.run(int(round(args.equil / args.dt)))
+res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5, mass_proportional=True)
+out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
+           boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
+           box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
+           eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max,
+           colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
+out["cpu_s"] = time.process_time() - t0
+print(json.dumps(out))
+print(f"phi = {out['phi']:.4f} ({out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "
+      f"Batchelor x eta0 would be {theory.batchelor_viscosity(out['phi']):.3f} eta0")
+if args.json:
+    with open(args.json, "a") as f:
+        f.write(json.dumps(out) + "\n")

@@ -1,0 +1,69 @@
+# labels: python long
+"""One stick colloid at volume fraction 0.05 (setup_suspension(boundary="stick"),
+doc/suspensions.md section 7c): seed 004's solvent and colloid (R = 1, rho = 3,
+kT = 0.1, gamma = 4.5, mean-field colloid-solvent hat and DPD on the gap,
+colloid mass 12.57) plus the tangential surface_friction (gamma 45) on the
+colloid-solvent shell and a rotating colloid (I = 2/5 M R^2), one colloid in a
+periodic cube of edge L = 4.376, Shardlow dt = 0.01.
+
+- D by drag (marble.diffusion.measure_drag, F = 0.5, 3000 time units; error the
+  larger of blocking and sqrt(2 D/T)) within 10 % + 3 sigma of Hasimoto's STICK
+  D(L) at R_h = R with the solvent's measured eta = 0.3227 +/- 0.0069, and below
+  0.6 x the slip formula (seed 004's slip colloid gives 1.11 x slip, test_suspension_hasimoto.py);
+- rotational equipartition <I w^2>/3 = kT within 3 % + 3 sigma (blocking), 1000
+  time units after the drag (the spins see the Shardlow pair update's torques only).
+"""
+import math
+
+import numpy as np
+import pytest
+
+import marble
+from marble import theory
+
+if not marble.has_features("DPD", "TRANS_DPD", "ROTATION", "HAT", "CONTACT", "LUBRICATION", "MASS",
+                           "EXTERNAL_FORCE"):
+    pytest.skip("needs DPD, TRANS_DPD, ROTATION, HAT, CONTACT, LUBRICATION, MASS, EXTERNAL_FORCE",
+                allow_module_level=True)
+
+sus = marble.suspensions
+R, KT, PHI, DT, F, T = 1.0, 0.1, 0.05, 0.01, 0.5, 3000.0
+ETA, ETA_ERR = 0.3227, 0.0069  # reverse Poiseuille at the same solvent settings and dt
+
+
+def test_stick_colloid_diffuses_as_hasimoto_stick_and_rotates_at_kT():
+    from marble.diffusion import measure_drag
+    L = (4.0 * math.pi * R ** 3 / (3.0 * PHI)) ** (1.0 / 3.0)
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = DT
+    s.cell_system.skin = 0.4
+    info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=4.5, eta=0.3, seed=7,
+                                positions=[[L / 2] * 3], boundary="stick")
+    assert info["rinertia"] == pytest.approx(0.4 * info["colloid_mass"] * R * R)
+    s.integrator.set_shardlow()
+    p = s.part.all()
+    v, m = np.asarray(p.v), np.asarray(p.mass)
+    p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
+    s.integrator.run(int(round(20 / DT)))
+    res = measure_drag(s, info["colloid_ids"], force=[F, 0, 0], steps=int(round(T / DT)),
+                       equilibration_steps=int(round(20 / DT)), delta_N=10, kT=KT)
+    D = res.D
+    D_err = max(res.D_err, KT * math.sqrt(2 * max(D, 0.0) / T) / F)
+    rel = math.hypot(D_err / D, ETA_ERR / ETA)
+    stick = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="stick")
+    slip = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="slip")
+    # spins, force off
+    c = s.part.by_ids(info["colloid_ids"])
+    w = []
+    for _ in range(20000):
+        s.integrator.run(5)
+        w.append(c.omega_lab[0])
+    ke = info["rinertia"] * np.array([np.mean(b ** 2) for b in np.array_split(np.array(w), 10)]) / KT
+    ke_m, ke_e = ke.mean(), ke.std(ddof=1) / math.sqrt(len(ke))
+    print(f"D = {D:.5f} +- {D_err:.5f}; D / stick Hasimoto = {stick:.3f} +- {stick * rel:.3f}, "
+          f"D / slip Hasimoto = {slip:.3f}; <I w^2>/(3 kT) = {ke_m:.4f} +- {ke_e:.4f}")
+    assert D_err / D < 0.08, f"statistics too poor: D = {D} +- {D_err}"
+    assert abs(stick - 1) < 0.10 + 3 * stick * rel, f"D / Hasimoto(stick, R) = {stick} +- {stick * rel}"
+    assert slip < 0.6, f"D / Hasimoto(slip, R) = {slip}: expected a stick sphere"
+    assert ke_e < 0.02, f"statistics too poor: {ke_m} +- {ke_e}"
+    assert abs(ke_m - 1) < 0.03 + 3 * ke_e, f"<I w^2>/(3 kT) = {ke_m} +- {ke_e}"
