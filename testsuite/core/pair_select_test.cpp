@@ -114,3 +114,55 @@ TEST(PairSelect, DispatchedCallMatchesScalar) {
     ASSERT_TRUE(same_bits(A->dx[s], C->dx[s]) && same_bits(A->dy[s], C->dy[s]) && same_bits(A->dz[s], C->dz[s]));
   }
 }
+
+// The row select (pair_rows_select on a VerletPairs-style list: rows of
+// partners j, padded by 4 valid indices), every path and several block
+// limits, resumed block by block: the same pairs, in list order, with the
+// same d bits, as the plain loop over the expanded (i, j) pairs; empty rows,
+// rows of 1-3 partners and long rows included.
+TEST(PairSelect, RowPathsAgreeBitForBit) {
+  std::mt19937_64 g(11);
+  int const n_part = 300;
+  Scene const sc = make_scene(g, n_part, 0);
+  for (int n_rows : {0, 1, 5, 120}) {
+    std::vector<int> row_start{0}, pj;
+    for (int i = 0; i < n_rows; ++i) {
+      int const len = static_cast<int>(g() % 4 == 0 ? g() % 4 : g() % 60);
+      for (int k = 0; k < len; ++k)
+        pj.push_back(static_cast<int>((i + 1 + g() % (n_part - 1)) % n_part));
+      row_start.push_back(static_cast<int>(pj.size()));
+    }
+    pj.insert(pj.end(), {0, 0, 0, 0});
+    double const cut2 = 1.2 * 1.2;
+    std::vector<std::array<int, 2>> want;
+    for (int i = 0; i < n_rows; ++i)
+      for (int k = row_start[i]; k < row_start[i + 1]; ++k) {
+        int const j = pj[k];
+        double const dx = sc.pos[i][0] - sc.pos[j][0], dy = sc.pos[i][1] - sc.pos[j][1],
+                     dz = sc.pos[i][2] - sc.pos[j][2];
+        if (!(dx * dx + dy * dy + dz * dz >= cut2))
+          want.push_back({i, j});
+      }
+    for (auto const &path : Marble::pair_rows_select_paths())
+      for (int limit : {0, 5, 192, Marble::kPairBlock - 4}) {
+        std::vector<std::array<int, 2>> got;
+        Marble::RowCursor c;
+        auto B = std::make_unique<Marble::PairBlockSoA>();
+        std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
+        int guard = 0;
+        while (c.i < n_rows) {
+          int const n = path.select(row_start.data(), pj.data(), n_rows, c, limit, sc.pos.data(), cut2, bij.data(), *B);
+          ASSERT_LE(n, limit + 4) << path.name;
+          for (int s = 0; s < n; ++s) {
+            auto const [i, j] = bij[s];
+            ASSERT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0])) << path.name;
+            ASSERT_TRUE(same_bits(B->dy[s], sc.pos[i][1] - sc.pos[j][1])) << path.name;
+            ASSERT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2])) << path.name;
+            got.push_back(bij[s]);
+          }
+          ASSERT_LT(++guard, 100000) << "no progress";
+        }
+        ASSERT_EQ(got, want) << path.name << " limit " << limit << " rows " << n_rows;
+      }
+  }
+}

@@ -329,12 +329,13 @@ struct CandidateRange {
   int k0, k1;
 };
 
-/** Append (i, members[k]) for every candidate k of @p ranges (in order) with
- * |p_i - p_k|^2 < @p range2 to @p out from slot @p n; returns the new count.
- * Scalar/SSE2 form. The coordinate and member arrays are padded by 4 slots. */
-std::size_t scan_candidates(int i, double const *pi, double range2, CandidateRange const *ranges,
+/** Append members[k] (the partner j of the pair (i, j)) for every candidate k
+ * of @p ranges (in order) with |p_i - p_k|^2 < @p range2 to @p out from slot
+ * @p n; returns the new count. Scalar/SSE2 form. The coordinate and member
+ * arrays are padded by 4 slots. */
+std::size_t scan_candidates(double const *pi, double range2, CandidateRange const *ranges,
                             int n_ranges, double const *mx, double const *my, double const *mz,
-                            int const *members, std::array<int, 2> *out, std::size_t n) {
+                            int const *members, int *out, std::size_t n) {
 #ifdef __SSE2__
   __m128d const px = _mm_set1_pd(pi[0]), py = _mm_set1_pd(pi[1]), pz = _mm_set1_pd(pi[2]);
   __m128d const r2v = _mm_set1_pd(range2);
@@ -351,15 +352,15 @@ std::size_t scan_candidates(int i, double const *pi, double range2, CandidateRan
       __m128d const d2 =
           _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
       int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
-      out[n] = {i, members[k]};
+      out[n] = members[k];
       n += static_cast<std::size_t>(mask & 1);
-      out[n] = {i, members[k + 1]};
+      out[n] = members[k + 1];
       n += static_cast<std::size_t>(mask >> 1);
     }
 #endif
     for (; k < k1; ++k) {
       double const dx = pi[0] - mx[k], dy = pi[1] - my[k], dz = pi[2] - mz[k];
-      out[n] = {i, members[k]};
+      out[n] = members[k];
       n += (dx * dx + dy * dy + dz * dz < range2) ? 1 : 0;
     }
   }
@@ -368,18 +369,18 @@ std::size_t scan_candidates(int i, double const *pi, double range2, CandidateRan
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define MARBLE_CELLS_AVX2 1
-/** For each 4-bit lane mask: the 32-bit words (2 per pair) of the selected
- * lanes first, in lane order; and the lane count. */
+/** For each 4-bit lane mask: the bytes of the selected 32-bit lanes first,
+ * in lane order (a pshufb control); and the lane count. */
 struct CompressTable {
-  alignas(32) std::int32_t perm[16][8];
+  alignas(16) std::int8_t perm[16][16];
   int count[16];
   constexpr CompressTable() : perm{}, count{} {
     for (int m = 0; m < 16; ++m) {
       int c = 0;
       for (int l = 0; l < 4; ++l)
         if ((m >> l) & 1) {
-          perm[m][2 * c] = 2 * l;
-          perm[m][2 * c + 1] = 2 * l + 1;
+          for (int b = 0; b < 4; ++b)
+            perm[m][4 * c + b] = static_cast<std::int8_t>(4 * l + b);
           ++c;
         }
       count[m] = c;
@@ -392,12 +393,11 @@ constexpr CompressTable kCompress{};
  * (dx^2 + dy^2) + dz^2 < range2, no FMA), the pairs within range written by
  * one permuted store; a range's tail is masked (the arrays are padded). */
 __attribute__((target("avx2"))) std::size_t
-scan_candidates_avx2(int i, double const *pi, double range2, CandidateRange const *ranges,
+scan_candidates_avx2(double const *pi, double range2, CandidateRange const *ranges,
                      int n_ranges, double const *mx, double const *my, double const *mz,
-                     int const *members, std::array<int, 2> *out, std::size_t n) {
+                     int const *members, int *out, std::size_t n) {
   __m256d const px = _mm256_set1_pd(pi[0]), py = _mm256_set1_pd(pi[1]), pz = _mm256_set1_pd(pi[2]);
   __m256d const r2v = _mm256_set1_pd(range2);
-  __m128i const iv = _mm_set1_epi32(i);
   for (int q = 0; q < n_ranges; ++q) {
     int const k1 = ranges[q].k1;
     for (int k = ranges[q].k0; k < k1; k += 4) {
@@ -410,10 +410,8 @@ scan_candidates_avx2(int i, double const *pi, double range2, CandidateRange cons
       int const m = _mm256_movemask_pd(_mm256_cmp_pd(d2, r2v, _CMP_LT_OQ)) &
                     (rem >= 4 ? 15 : (1 << rem) - 1);
       __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(members + k));
-      __m256i const ij = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_unpacklo_epi32(iv, js)),
-                                                 _mm_unpackhi_epi32(iv, js), 1);
-      __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.perm[m]));
-      _mm256_storeu_si256(reinterpret_cast<__m256i *>(out + n), _mm256_permutevar8x32_epi32(ij, perm));
+      __m128i const perm = _mm_load_si128(reinterpret_cast<__m128i const *>(kCompress.perm[m]));
+      _mm_storeu_si128(reinterpret_cast<__m128i *>(out + n), _mm_shuffle_epi8(js, perm));
       n += static_cast<std::size_t>(kCompress.count[m]);
     }
   }
@@ -424,7 +422,8 @@ scan_candidates_avx2(int i, double const *pi, double range2, CandidateRange cons
 
 } // namespace
 
-// The list order (and so the force summation order) is: locals i ascending;
+// The list order (and so the force summation order) is: locals i ascending
+// (one row of partners j per i, VerletPairs);
 // for each, the 27 neighbour cells in (dz, dy, dx) order; in each cell its
 // locals ascending, then its ghosts ascending. Since locals are sorted by cell,
 // a neighbour cell below i's cell holds only locals < i, and in i's own cell
@@ -443,6 +442,7 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     m_pairs.clear();
     return;
   }
+  m_pairs.extra.clear();
   auto const dom = local_domain(box);
   m_grid = Grid(dom.first, dom.second, m_range);
   Grid const &g = m_grid;
@@ -509,11 +509,15 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   // The list keeps its size between rebuilds (no zero fill of the whole
   // buffer): it grows only when a particle's candidates might not fit.
   std::size_t n_pairs = 0;
+  auto &pj = m_pairs.j;
+  auto &row = m_pairs.row_start;
   {
-    std::size_t const want = std::max<std::size_t>(1024, m_pairs.size() + m_pairs.size() / 8 + 64);
-    if (m_pairs.size() < want)
-      m_pairs.resize(want);
+    std::size_t const want = std::max<std::size_t>(1024, pj.size() + pj.size() / 8 + 64);
+    if (pj.size() < want)
+      pj.resize(want);
   }
+  row.resize(static_cast<std::size_t>(n_small_local) + 1);
+  row[0] = 0;
   // Per cell, the candidate slots as items in list order: a row (dz, dy) of
   // three cells whose slots are contiguous (kRow: [a0, b0) [b0, b1) [b1, c1)),
   // i's own row from the slot after i (kOwn: [i+1, b1) [b1, c1)), or one cell
@@ -568,8 +572,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
         }
       }
     for (int i = i_begin; i < i_end; ++i) {
-      if (m_pairs.size() < n_pairs + max_cand + kPad)
-        m_pairs.resize(2 * m_pairs.size() + max_cand + kPad);
+      if (pj.size() < n_pairs + max_cand + kPad)
+        pj.resize(2 * pj.size() + max_cand + kPad);
       Vector3d const pi = ps.pos[i];
       int const self_next = start[ci] + (i - i_begin) + 1; // own cell: the slots after i
       // squared distances to the near faces of the neighbours at -1, 0, +1
@@ -601,24 +605,34 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       }
 #ifdef MARBLE_CELLS_AVX2
       if (avx2)
-        n_pairs = scan_candidates_avx2(i, pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
-                                       mz.data(), members.data(), m_pairs.data(), n_pairs);
+        n_pairs = scan_candidates_avx2(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                       mz.data(), members.data(), pj.data(), n_pairs);
       else
 #endif
-        n_pairs = scan_candidates(i, pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
-                                  mz.data(), members.data(), m_pairs.data(), n_pairs);
+        n_pairs = scan_candidates(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                  mz.data(), members.data(), pj.data(), n_pairs);
+      row[static_cast<std::size_t>(i) + 1] = static_cast<int>(n_pairs);
     }
     i_begin = i_end;
   }
-  m_pairs.resize(n_pairs);
+  pj.resize(n_pairs + kPad); // padded by valid indices for SIMD reads past a row
+  std::fill(pj.end() - kPad, pj.end(), 0);
   members.resize(static_cast<std::size_t>(n_members));
   if (parallel()) {
     // a pair with another rank's particle is computed by the rank owning the smaller id
-    m_pairs.erase(std::remove_if(m_pairs.begin(), m_pairs.end(),
-                                 [&](std::array<int, 2> const &pr) {
-                                   return pr[1] >= n_local && other_rank_computes(ps, pr[0], pr[1], n_local);
-                                 }),
-                  m_pairs.end());
+    std::size_t w = 0;
+    for (int i = 0; i < n_small_local; ++i) {
+      std::size_t const k0 = static_cast<std::size_t>(row[i]), k1 = static_cast<std::size_t>(row[i + 1]);
+      row[i] = static_cast<int>(w);
+      for (std::size_t k = k0; k < k1; ++k) {
+        int const j = pj[k];
+        pj[w] = j;
+        w += (j >= n_local && other_rank_computes(ps, i, j, n_local)) ? 0 : 1;
+      }
+    }
+    row[static_cast<std::size_t>(n_small_local)] = static_cast<int>(w);
+    pj.resize(w + kPad);
+    std::fill(pj.end() - kPad, pj.end(), 0);
   }
   if (any_wide)
     build_wide_pairs(ps, box, n_small_local, ghost_begin);
@@ -675,7 +689,7 @@ void CellSystem::build_wide_pairs(ParticleStore const &ps, BoxGeometry const &bo
                 continue; // an own image: positive shifts only; another rank's: see build_pairs
               }
               if ((ps.pos[i] - ps.pos[j]).norm2() < range2)
-                m_pairs.push_back({i, j});
+                m_pairs.extra.push_back({i, j});
             }
           }
     }
@@ -718,7 +732,7 @@ void CellSystem::build_wide_pairs(ParticleStore const &ps, BoxGeometry const &bo
             for (int q = start[cc]; q < ghost_begin[cc]; ++q) {
               int const s = members[q];
               if ((ps.pos[s] - c).norm2() < r2)
-                m_pairs.push_back(p < n_local ? std::array<int, 2>{p, s} : std::array<int, 2>{s, p});
+                m_pairs.extra.push_back(p < n_local ? std::array<int, 2>{p, s} : std::array<int, 2>{s, p});
             }
           }
         }

@@ -38,9 +38,66 @@
 #include <array>
 #include <utility>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace Marble {
+
+/** The Verlet pair list in list order: the rows of the small locals i =
+ * 0, 1, ... (compressed sparse rows: only the partners j of the pairs (i, j)
+ * are stored, 4 bytes a pair, and i is read once per row), then the pairs
+ * with large-range particles as (i, j) (@ref extra, CellSystem::build_wide_pairs).
+ * Iterating it yields the pairs as std::array<int, 2>{i, j} in that order. */
+struct VerletPairs {
+  std::vector<int> row_start{0}; // row i: j[row_start[i]] .. j[row_start[i + 1] - 1]
+  std::vector<int> j;            // row_start.back() entries, then 4 zeros (SIMD reads past a row)
+  std::vector<std::array<int, 2>> extra;
+
+  int n_rows() const { return static_cast<int>(row_start.size()) - 1; }
+  std::size_t n_row_pairs() const { return static_cast<std::size_t>(row_start.back()); }
+  std::size_t size() const { return n_row_pairs() + extra.size(); }
+  bool empty() const { return size() == 0; }
+  void clear() {
+    row_start.assign(1, 0);
+    j.clear();
+    extra.clear();
+  }
+
+  class const_iterator {
+  public:
+    using value_type = std::array<int, 2>;
+    using difference_type = std::ptrdiff_t;
+    const_iterator() = default;
+    const_iterator(VerletPairs const *l, std::size_t k) : m_l(l), m_k(k) { skip_empty_rows(); }
+    value_type operator*() const {
+      return m_k < m_l->n_row_pairs() ? value_type{m_row, m_l->j[m_k]}
+                                      : m_l->extra[m_k - m_l->n_row_pairs()];
+    }
+    const_iterator &operator++() {
+      ++m_k;
+      skip_empty_rows();
+      return *this;
+    }
+    const_iterator operator++(int) {
+      auto t = *this;
+      ++*this;
+      return t;
+    }
+    bool operator==(const_iterator const &o) const { return m_k == o.m_k; }
+    bool operator!=(const_iterator const &o) const { return m_k != o.m_k; }
+
+  private:
+    void skip_empty_rows() {
+      while (m_row < m_l->n_rows() && static_cast<std::size_t>(m_l->row_start[m_row + 1]) <= m_k)
+        ++m_row;
+    }
+    VerletPairs const *m_l = nullptr;
+    std::size_t m_k = 0;
+    int m_row = 0;
+  };
+  const_iterator begin() const { return {this, 0}; }
+  const_iterator end() const { return {this, size()}; }
+};
 
 class CellSystem {
 public:
@@ -102,7 +159,7 @@ public:
   /** Lower corner and size of this rank's domain. */
   std::pair<Utils::Vector3d, Utils::Vector3d> local_domain(BoxGeometry const &box) const;
 
-  std::vector<std::array<int, 2>> const &pairs() const { return m_pairs; }
+  VerletPairs const &pairs() const { return m_pairs; }
 
   /** Visit every local particle index whose cell overlaps the sphere of
    * @p radius around @p center (a superset of the particles within radius).
@@ -187,7 +244,7 @@ private:
   bool m_valid = false;
   long m_n_rebuilds = 0;
   std::array<int, 3> m_n_cells{1, 1, 1};
-  std::vector<std::array<int, 2>> m_pairs;
+  VerletPairs m_pairs;
   Grid m_grid;
   std::vector<int> m_cell_start, m_cell_members; // all particles (locals + ghosts) by cell
   // rebuild scratch, kept between rebuilds (no allocation or page faults per rebuild)

@@ -37,6 +37,10 @@ constexpr unsigned simd_kernels() {
  * add them up in list order (the summation order of the scalar loop; the
  * force on i is summed in registers over a run of pairs of the same i, the
  * same additions in the same order). */
+/** Selected pairs per block of the row select: a block's structures of
+ * arrays (~13 arrays of this length) then stay in the L1 cache. */
+constexpr int kSelectLimit = 192;
+
 void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                     NoiseContext const &th, SimdPairParams const &sp) {
   auto const *__restrict const pos = ps.pos.data();
@@ -61,11 +65,8 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
-  std::size_t const n_pairs = pairs.size();
-  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
-    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
-    auto const *const blk = pairs.data() + b0;
-    int const n = pair_block_select(blk, nb, pos, typ, cut2_table.data(), nt, bij.data(), B);
+  // gather, noise, forces and scatter of the n selected pairs in bij / B
+  auto process = [&](int n) {
     if (dpd) {
       pair_block_gather_dpd(bij.data(), n, vel, pid, B, lo.data(), hi.data(), sign.data());
       if constexpr (mass)
@@ -88,6 +89,19 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
       } while (s < n && bij[s][0] == i);
       frc[i][0] = fix, frc[i][1] = fiy, frc[i][2] = fiz;
     }
+  };
+  // the rows, read in place (r_i once per row), then the extra pairs
+  RowCursor cur;
+  int const n_rows = pairs.n_rows();
+  while (cur.i < n_rows) {
+    int const n = pair_rows_select(pairs.row_start.data(), pairs.j.data(), n_rows, cur, kSelectLimit, pos, typ,
+                                   cut2_table.data(), nt, bij.data(), B);
+    process(n);
+  }
+  std::size_t const n_extra = pairs.extra.size();
+  for (std::size_t b0 = 0; b0 < n_extra; b0 += kPairBlock) {
+    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_extra - b0));
+    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2_table.data(), nt, bij.data(), B));
   }
 }
 

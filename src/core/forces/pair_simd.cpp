@@ -238,6 +238,45 @@ void gather_dpd_scalar(std::array<int, 2> const *bij, int n, Utils::Vector3d con
   gather_dpd_scalar_from(0, bij, n, vel, pid, B, lo, hi, sign);
 }
 
+/** pair_rows_select, scalar (the reference for the AVX2 one). */
+template <bool OneType>
+int rows_select_scalar(int const *__restrict row_start, int const *__restrict pj, int n_rows, RowCursor &c,
+                       int limit, Utils::Vector3d const *__restrict pos, int const *__restrict typ,
+                       double const *__restrict cut2_table, int nt, std::array<int, 2> *__restrict bij,
+                       PairBlockSoA &B) {
+  double *__restrict const dxs = B.dx, *__restrict const dys = B.dy, *__restrict const dzs = B.dz;
+  double const cut2_one = cut2_table[0];
+  int n = 0, i = c.i, k = c.k;
+  for (; i < n_rows; ++i) {
+    int const k1 = row_start[i + 1];
+    if (k >= k1)
+      continue;
+    double const xi = pos[i][0], yi = pos[i][1], zi = pos[i][2];
+    double const *const c2row = OneType ? nullptr : cut2_table + typ[i] * nt;
+    for (; k < k1; ++k) {
+      if (n > limit) {
+        c = {i, k};
+        return n;
+      }
+      int const j = pj[k];
+      double const dx = xi - pos[j][0], dy = yi - pos[j][1], dz = zi - pos[j][2];
+      bij[n] = {i, j};
+      dxs[n] = dx, dys[n] = dy, dzs[n] = dz;
+      double const c2 = OneType ? cut2_one : c2row[typ[j]];
+      n += !(dx * dx + dy * dy + dz * dz >= c2) ? 1 : 0;
+    }
+  }
+  c = {i, k};
+  return n;
+}
+
+int rows_select_scalar_one_type(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                                Utils::Vector3d const *pos, double cut2, std::array<int, 2> *bij,
+                                PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return rows_select_scalar<true>(row_start, pj, n_rows, c, limit, pos, nullptr, cut2_table, 1, bij, B);
+}
+
 #ifdef MARBLE_PAIR_SELECT_AVX2
 /** Lane permutation (as 32-bit words) that moves the selected 64-bit lanes of
  * a 4-bit mask to the front, in order. */
@@ -307,6 +346,55 @@ __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> cons
   return select_scalar<true>(blk, q, nb, pos, nullptr, cut2_table, 1, bij, B, n);
 }
 
+/** rows_select_scalar<true> four listed pairs of a row at a time: r_i
+ * broadcast once per row, the row's last group masked to its length (the
+ * list is padded by valid indices, so the extra lanes read valid particles),
+ * the same IEEE operations as the scalar select. */
+__attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restrict row_start,
+                                                              int const *__restrict pj, int n_rows, RowCursor &c,
+                                                              int limit, Utils::Vector3d const *__restrict pos,
+                                                              double cut2, std::array<int, 2> *__restrict bij,
+                                                              PairBlockSoA &B) {
+  __m256d const c2 = _mm256_set1_pd(cut2);
+  int n = 0, i = c.i, k = c.k;
+  for (; i < n_rows; ++i) {
+    int const k1 = row_start[i + 1];
+    if (k >= k1)
+      continue;
+    __m256d const xi = _mm256_broadcast_sd(&pos[i][0]), yi = _mm256_broadcast_sd(&pos[i][1]),
+                  zi = _mm256_broadcast_sd(&pos[i][2]);
+    __m128i const iv = _mm_set1_epi32(i);
+    for (; k < k1; k += 4) {
+      if (n > limit) {
+        c = {i, k};
+        return n;
+      }
+      if ((k & 15) == 0)
+        __builtin_prefetch(pj + k + 256);
+      __m256d xj, yj, zj;
+      load4(pos, pj[k], pj[k + 1], pj[k + 2], pj[k + 3], xj, yj, zj);
+      __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
+      __m256d const r2 =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      int const rem = k1 - k;
+      // !(r2 >= cut2), true for a NaN; lanes past the row's end off
+      int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ)) & (rem >= 4 ? 15 : (1 << rem) - 1);
+      __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
+      __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(pj + k));
+      __m256i const ij = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_unpacklo_epi32(iv, js)),
+                                                 _mm_unpackhi_epi32(iv, js), 1);
+      _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(ij, perm));
+      _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
+      _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
+      _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
+      n += std::popcount(static_cast<unsigned>(m));
+    }
+    k = k1;
+  }
+  c = {i, k};
+  return n;
+}
+
 /** gather_dpd_scalar four pairs at a time: v_i of a run broadcast, the four
  * v_j transposed into lanes (the same subtractions), the ids ordered by
  * unsigned min/max and the sign +1 where id_i < id_j, else -1 (exact). */
@@ -365,6 +453,28 @@ void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d
     return gather_dpd_avx2(bij, n, vel, pid, b, lo, hi, sign);
 #endif
   gather_dpd_scalar(bij, n, vel, pid, b, lo, hi, sign);
+}
+
+int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                     Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
+                     std::array<int, 2> *bij, PairBlockSoA &b) {
+  if (nt == 1) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+    if (Utils::cpu_has_avx2())
+      return rows_select_avx2_one_type(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
+#endif
+    return rows_select_scalar<true>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
+  }
+  return rows_select_scalar<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
+}
+
+std::vector<PairRowsSelectPath> pair_rows_select_paths() {
+  std::vector<PairRowsSelectPath> out{{"scalar", &rows_select_scalar_one_type}};
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    out.push_back({"avx2", &rows_select_avx2_one_type});
+#endif
+  return out;
 }
 
 std::vector<PairSelectPath> pair_select_paths() {

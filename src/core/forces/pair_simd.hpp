@@ -58,6 +58,22 @@ struct PairBlockSoA {
 int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
                       double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b);
 
+/** Where pair_rows_select stopped: row @p i, its listed pair at slot @p k of
+ * VerletPairs::j. Start at {0, 0}; done when i == n_rows. */
+struct RowCursor {
+  int i = 0, k = 0;
+};
+
+/** pair_block_select on the rows of a VerletPairs list (@p row_start, @p pj,
+ * @p n_rows; pj padded by 4 valid indices), from @p c on: the selected pairs
+ * (i, j) and d at slots 0, 1, ... of @p bij and @p b, in list order, until
+ * more than @p limit (<= kPairBlock - 4) are stored or the rows end; @p c
+ * then says where to go on. r_i is loaded once per row. The same selection
+ * and the same bits as pair_block_select on the expanded pairs. */
+int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                     Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
+                     std::array<int, 2> *bij, PairBlockSoA &b);
+
 /** The DPD inputs of the selected pairs bij[0 .. n): v = v_i - v_j into @p b
  * and the ordered ids and noise sign (order_pair_ids) into @p lo, @p hi,
  * @p sign; with AVX2 four pairs at a time, else scalar: the same bits. */
@@ -75,6 +91,14 @@ struct PairSelectPath {
                      std::uint32_t *, std::uint32_t *, double *);
 };
 std::vector<PairSelectPath> pair_select_paths();
+
+/** Every code path of pair_rows_select for one-type scenes this CPU has (tests). */
+struct PairRowsSelectPath {
+  char const *name;
+  int (*select)(int const *, int const *, int, RowCursor &, int, Utils::Vector3d const *, double,
+                std::array<int, 2> *, PairBlockSoA &);
+};
+std::vector<PairRowsSelectPath> pair_rows_select_paths();
 
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */

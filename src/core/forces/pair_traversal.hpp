@@ -7,6 +7,7 @@
 // caller works on the selected pairs of the block, in list order, so the
 // summation order (and the trajectory) is that of a plain one-pass loop. A
 // NaN distance is kept (the force check reports it).
+#include "cells/CellSystem.hpp"
 #include "forces/pair_noise.hpp"
 #include "nonbonded/InteractionTable.hpp"
 #include "particles/ParticleStore.hpp"
@@ -21,9 +22,33 @@
 
 namespace Marble {
 
-using PairList = std::vector<std::array<int, 2>>;
+using PairList = VerletPairs;
 
 constexpr int kPairBlock = 512;
+
+/** Call fn(std::array<int, 2> const *pairs, int n) for consecutive chunks of
+ * at most kPairBlock listed pairs (i, j) of @p list, in list order: the rows
+ * expanded into a buffer, the extra pairs as they are stored. */
+template <class Fn> void for_each_listed_chunk(PairList const &list, Fn &&fn) {
+  std::array<std::array<int, 2>, kPairBlock> buf;
+  int m = 0;
+  int const *const row = list.row_start.data();
+  int const *const pj = list.j.data();
+  int const n_rows = list.n_rows();
+  for (int i = 0; i < n_rows; ++i)
+    for (int k = row[i]; k < row[i + 1]; ++k) {
+      buf[m++] = {i, pj[k]};
+      if (m == kPairBlock) {
+        fn(static_cast<std::array<int, 2> const *>(buf.data()), m);
+        m = 0;
+      }
+    }
+  if (m > 0)
+    fn(static_cast<std::array<int, 2> const *>(buf.data()), m);
+  std::size_t const n_extra = list.extra.size();
+  for (std::size_t b0 = 0; b0 < n_extra; b0 += kPairBlock)
+    fn(list.extra.data() + b0, static_cast<int>(std::min<std::size_t>(kPairBlock, n_extra - b0)));
+}
 
 /** The selected pairs of one block: (i[s], j[s]) for s < size, in list order. */
 struct PairBlock {
@@ -63,10 +88,7 @@ void for_each_pair_block(ParticleStore const &ps, PairList const &pairs, Interac
   auto const *const pos = ps.pos.data();
   auto const *const typ = ps.type.data();
   PairBlock b;
-  std::size_t const n_pairs = pairs.size();
-  for (std::size_t b0 = 0; b0 < n_pairs; b0 += kPairBlock) {
-    int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_pairs - b0));
-    auto const *const blk = pairs.data() + b0;
+  for_each_listed_chunk(pairs, [&](std::array<int, 2> const *blk, int nb) {
     int m = 0;
     if (one_type) {
       for (int q = 0; q < nb; ++q) {
@@ -83,7 +105,7 @@ void for_each_pair_block(ParticleStore const &ps, PairList const &pairs, Interac
     }
     b.size = m;
     fn(static_cast<PairBlock const &>(b));
-  }
+  });
 }
 
 /** Call fn(i, j) for every pair of @p pairs within its cutoff, in list order. */
