@@ -8,6 +8,7 @@
 #include <limits>
 #include <type_traits>
 #include <cstdint>
+#include <cstring>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -777,37 +778,65 @@ template <typename F> void CellSystem::for_each_own_image(ParticleStore const &p
 }
 
 // Owners -> other ranks' ghosts: pack(send entry) for each entry of m_send,
-// unpack(ghost index, value) on the receiving rank, in the same order.
+// unpack(ghost index, value) on the receiving rank, in the same order. The
+// sizes are fixed between rebuilds (m_send[q] out, m_recv_count[q] in), so
+// the data go point to point to the neighbour ranks, with no count exchange.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  std::vector<std::vector<T>> send(size);
+  m_xsend.resize(static_cast<std::size_t>(size));
+  m_xrecv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(m_send[q].size());
-    for (auto const &e : m_send[q])
-      send[q].push_back(pack(e));
+    auto &buf = m_xsend[q];
+    buf.resize(m_send[q].size() * sizeof(T));
+    char *out = buf.data();
+    for (auto const &e : m_send[q]) {
+      T const x = pack(e);
+      std::memcpy(out, &x, sizeof(T));
+      out += sizeof(T);
+    }
+    m_xrecv[q].resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
   }
-  auto const recv = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      unpack(m_recv_begin[q] + k, recv[q][static_cast<std::size_t>(k)]);
+  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
+  for (int q = 0; q < size; ++q) {
+    char const *in = m_xrecv[q].data();
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      T x;
+      std::memcpy(&x, in + static_cast<std::size_t>(k) * sizeof(T), sizeof(T));
+      unpack(m_recv_begin[q] + k, x);
+    }
+  }
 }
 
 // The reverse: pack(ghost index) for the ghosts from each rank, unpack(local
 // index, value) on their owner.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  std::vector<std::vector<T>> send(size);
+  m_xsend.resize(static_cast<std::size_t>(size));
+  m_xrecv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(static_cast<std::size_t>(m_recv_count[q]));
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      send[q].push_back(pack(m_recv_begin[q] + k));
+    auto &buf = m_xsend[q];
+    buf.resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
+    char *out = buf.data();
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      T const x = pack(m_recv_begin[q] + k);
+      std::memcpy(out, &x, sizeof(T));
+      out += sizeof(T);
+    }
+    m_xrecv[q].resize(m_send[q].size() * sizeof(T));
   }
-  auto const back = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (std::size_t k = 0; k < m_send[q].size(); ++k)
-      unpack(m_send[q][k].index, back[q][k]);
+  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
+  for (int q = 0; q < size; ++q) {
+    char const *in = m_xrecv[q].data();
+    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
+      T x;
+      std::memcpy(&x, in + k * sizeof(T), sizeof(T));
+      unpack(m_send[q][k].index, x);
+    }
+  }
 }
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {

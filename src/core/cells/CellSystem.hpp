@@ -204,6 +204,7 @@ private:
   // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
   std::vector<std::vector<SendEntry>> m_send;
   std::vector<int> m_recv_begin, m_recv_count;
+  mutable std::vector<std::vector<char>> m_xsend, m_xrecv; // neighbour-exchange buffers, kept
 };
 
 } // namespace Marble
