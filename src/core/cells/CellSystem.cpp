@@ -33,13 +33,35 @@ bool shift_positive(Vector3d const &s) {
   return false;
 }
 
-/** A pair of local @p i and ghost @p j (>= n_local) of another rank's particle
- * is computed by the rank owning the smaller id: true if it is not this one. */
-bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) {
-  return ps.ghost_owner[j - n_local] < 0 && ps.id[i] > ps.id[j];
+/** An image of a particle of the rank at node coordinates @p src, shifted by
+ * @p n box lengths, is sent to the rank at @p dest (half shell) if the offset
+ * (src + n * grid) - dest is lexicographically positive: of the two ranks of
+ * a cross-rank pair the offsets are opposite, so exactly one gets the other's
+ * particle (and computes the pair). On one rank (src = dest) this is the
+ * positive-shift rule of the periodic images. */
+bool half_shell_sends(std::array<int, 3> const &src, std::array<int, 3> const &n,
+                      std::array<int, 3> const &grid, std::array<int, 3> const &dest) {
+  for (int d = 0; d < 3; ++d) {
+    int const off = src[d] + n[d] * grid[d] - dest[d];
+    if (off != 0)
+      return off > 0;
+  }
+  return false;
 }
 
 } // namespace
+
+/** A pair of local @p i and ghost @p j (>= n_local): true if another rank
+ * computes it (then it is left out here). Own periodic images: never. Other
+ * ranks' small particles come in a half shell (make_ghosts), so the pair is
+ * computed here. Large-range particles and colloid copies come from all
+ * sides (a full shell): the rank owning the smaller id computes the pair. */
+bool CellSystem::other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const {
+  int const o = ps.ghost_owner[j - n_local];
+  if (o >= 0 || (o == kRemoteGhost && !wide(ps.type[j])))
+    return false;
+  return ps.id[i] > ps.id[j];
+}
 
 // Cells are at least `range` wide, so all partners of a local are in the 27
 // cells around it.
@@ -225,6 +247,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   // shift (their pairs with small particles are listed from the large side).
   std::vector<Vector3d> shifts;
   std::vector<char> positive;
+  std::vector<std::array<int, 3>> ishifts; // the shifts in box lengths
   for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
     for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
       for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
@@ -233,8 +256,10 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
         if (par || pos || any_wide) {
           shifts.push_back(sh);
           positive.push_back(pos ? 1 : 0);
+          ishifts.push_back({sx, sy, sz});
         }
       }
+  std::array<int, 3> const me_at = coords_of(g, me);
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
@@ -300,8 +325,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
             if (dest == me) {
               if (own_image)
                 ps.add_ghost(i, sh);
-            } else {
-              m_send[dest].push_back({i, sh});
+            } else if (w || half_shell_sends(me_at, ishifts[k], g, {cx, cy, cz})) {
+              m_send[dest].push_back({i, sh}); // large-range particles: a full shell
             }
           }
     }
