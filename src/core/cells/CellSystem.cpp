@@ -263,16 +263,21 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
-  // One rank, one range: a particle farther than the range (plus a margin
-  // far above round-off) from every periodic face gets no image (every shift
-  // has a non-zero component along some periodic axis, whose cheap reject
-  // below then holds): skip it without visiting the shifts.
-  bool const interior_test = !par && !any_wide;
+  // One range: a particle farther than the range (plus a margin far above
+  // round-off) from every face of its domain along the periodic or split
+  // axes gets no ghost (every shift has a non-zero component along some
+  // periodic axis, whose cheap reject below then holds, and the unshifted
+  // position lies in no other rank's grown domain): skip it without visiting
+  // the shifts. On one rank the domain is the box.
+  bool const interior_test = !any_wide;
   Vector3d in_lo, in_hi;
   for (int d = 0; d < 3; ++d) {
     double const margin = 1e-9 * (L[d] + m_range);
-    in_lo[d] = box.periodic(d) ? m_range + margin : -std::numeric_limits<double>::infinity();
-    in_hi[d] = box.periodic(d) ? L[d] - m_range - margin : std::numeric_limits<double>::infinity();
+    bool const edge = box.periodic(d) || g[d] > 1;
+    double const lo = par ? coords_of(g, me)[d] * dl[d] : 0.;
+    double const hi = par ? lo + dl[d] : L[d];
+    in_lo[d] = edge ? lo + m_range + margin : -std::numeric_limits<double>::infinity();
+    in_hi[d] = edge ? hi - m_range - margin : std::numeric_limits<double>::infinity();
   }
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
