@@ -93,10 +93,16 @@ def main():
                       f"{statistics.median(samples[n][-rounds:]):.3e} particle-steps/s", flush=True)
         case = dict(L=L, n=int(round(3 * L**3)), steps_per_round=steps)
         base = statistics.median(samples[a.ranks[0]])
+        b0 = samples[a.ranks[0]]
         for n in a.ranks:
             med = statistics.median(samples[n])
+            # spread: the efficiency of each interleaved launch pair (medians of its rounds)
+            per_launch = [statistics.median(samples[n][k * rounds:(k + 1) * rounds])
+                          / statistics.median(b0[k * rounds:(k + 1) * rounds]) / (n / a.ranks[0])
+                          for k in range(a.launches)]
             case[f"ranks{n}"] = dict(median_wall=med, samples_wall=samples[n],
-                                     speedup=med / base, efficiency=med / base / (n / a.ranks[0]))
+                                     speedup=med / base, efficiency=med / base / (n / a.ranks[0]),
+                                     efficiency_per_launch=per_launch)
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
     os.makedirs(a.out, exist_ok=True)
@@ -106,6 +112,18 @@ def main():
     for key, c in res["cases"].items():
         print(key, " ".join(f"{n} ranks: {c[f'ranks{n}']['median_wall']:.3e}/s "
                             f"(E = {c[f'ranks{n}']['efficiency']:.2f})" for n in a.ranks))
+    # the one-line summary (issue 15's goal: E >= 0.92 at L = 40 on 2 ranks, idle machine)
+    la = res["machine"]["load_avg_before"][0], res["machine"]["load_avg_after"][0]
+    summary = []
+    for key, c in res["cases"].items():
+        for n in a.ranks[1:]:
+            e = c[f"ranks{n}"]
+            summary.append(f"{key} {n} ranks E = {e['efficiency']:.3f} "
+                           f"(per launch {min(e['efficiency_per_launch']):.3f}-"
+                           f"{max(e['efficiency_per_launch']):.3f})")
+    print("EFFICIENCY: " + "; ".join(summary) +
+          f"; load average {la[0]:.1f} before, {la[1]:.1f} after on {os.cpu_count()} cores"
+          + (" (machine busy: not an idle measurement)" if max(la) > 0.5 else ""))
     try:
         import matplotlib
         matplotlib.use("Agg")

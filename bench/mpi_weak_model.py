@@ -8,29 +8,36 @@ Run:  build/pymarble bench/mpi_weak_model.py [--quick] [--out DIR]
    timed) runs the marble paper's solvent (rho = 3, a = 0, gamma = 5, r_c = 1,
    skin 0.4) and records on every rank: its particles, its ghosts, and its MPI
    traffic over the timed steps (`_core.comm_stats()`: collective calls,
-   alltoallv blocks and bytes sent to other ranks).
-2. Check the geometry. The ghost count of every rank is compared with the
-   shell volume rho [(lx + 2r)(ly + 2r)(lz + 2r) - lx ly lz] (r = r_c + skin)
-   less half of the part that holds the rank's own periodic images (made
-   with positive shifts only; all of the shell on one rank) - the model used
-   below must reproduce the measured ghosts.
+   neighbour exchanges, blocks and bytes sent to other ranks).
+2. Check the geometry. The ghost count of every rank is compared with half
+   of the shell volume rho [(lx + 2r)(ly + 2r)(lz + 2r) - lx ly lz]
+   (r = r_c + skin): the half shell, for other ranks' particles and the
+   rank's own periodic images alike - the model used below must reproduce
+   the measured ghosts.
 3. Measure the compute rate R1 (particle-steps per CPU-second, one rank,
    L = 20, median of rounds).
 4. Extrapolate. Per step a rank spends
      t = n/R1 (1 + kappa g/n)                               compute + ghost work
        + c_a2a T_a2a(P) + c_red 2 alpha log2 P              collectives
-       + m alpha + B g / beta                               point-to-point data
-   with n particles and g remote ghosts per rank, c_a2a alltoallv exchanges
-   and c_red reductions per step and B bytes per remote ghost and step (all
-   measured in 1.), m = 26 neighbour messages. An alltoallv first exchanges
-   its counts with MPI_Alltoall: T_a2a = alpha (P - 1) (linear/pairwise, Open
-   MPI's choice for mid-size groups) or alpha log2 P (Bruck), both shown.
+       + (c_a2a + c_nb) m alpha + B g / beta                point-to-point data
+   with n particles and g remote ghosts per rank, c_a2a all-rank alltoallv
+   exchanges, c_nb neighbour (point-to-point) exchanges and c_red reductions
+   per step and B bytes per remote ghost and step (all measured in 1.), m
+   neighbour messages per exchange (26 for a full shell, 13 for the half
+   shell of the current scheme). An alltoallv first exchanges its counts
+   with MPI_Alltoall: T_a2a = alpha (P - 1) (linear/pairwise, Open MPI's
+   choice for mid-size groups) or alpha log2 P (Bruck), both shown.
    kappa (ghost work per ghost, relative to a particle) is fitted to the
-   measured 2-rank strong-scaling efficiencies of doc/benchmarks.md.
+   2-rank strong-scaling efficiencies measured with the full shell (0.83 at
+   L = 20, 0.86 at L = 40; doc/benchmarks.md).
    Network: alpha = 2 us, beta = 0.5 GB/s per rank (a 200 Gb/s link shared
    by 64 ranks of a node) and 5 GB/s (one rank per link): stated assumptions,
-   not measurements. The half-shell variant halves g and B g and sends 13
-   messages.
+   not measurements. Two schemes are tabulated: the current one (half shell,
+   ghost updates and force returns point to point, alltoallv only at
+   rebuilds; its counts measured here) and the previous one (full shell, an
+   alltoallv with its all-rank count exchange for every ghost update and
+   force return: its counts, measured on 2026-11-30 with commit 65688bb, are
+   kept in FULL_SHELL_PER_STEP).
 Writes bench/results/mpi_weak_model.json and a table on stdout.
 """
 import argparse
@@ -142,6 +149,11 @@ def compute_rate(L, steps, rounds):
     return statistics.median(rates), rates
 
 
+# per step and rank with the previous scheme (full shell, every ghost exchange an
+# alltoallv), measured by this script on 4 ranks on 2026-11-30 (commit 65688bb)
+FULL_SHELL_PER_STEP = dict(alltoallv=2.2, neighbor=0.0, allreduce=3.09, bytes_per_ghost=125.8)
+
+
 def model(P, n_per_rank, R1, kappa, per_step, alpha, beta, half_shell=False, bruck=False):
     """Seconds per step of one rank and the weak-scaling efficiency (see the module doc)."""
     l = (n_per_rank / RHO) ** (1 / 3)
@@ -157,7 +169,8 @@ def model(P, n_per_rank, R1, kappa, per_step, alpha, beta, half_shell=False, bru
     t_a2a = alpha * (logp if bruck else (P - 1))
     coll = per_step["alltoallv"] * t_a2a + per_step["allreduce"] * 2 * alpha * logp
     msgs = 13 if half_shell else 26
-    data = per_step["alltoallv"] * msgs * alpha + per_step["bytes_per_ghost"] * g / beta
+    data = ((per_step["alltoallv"] + per_step.get("neighbor", 0.0)) * msgs * alpha
+            + per_step["bytes_per_ghost"] * g / beta)
     t = comp + coll + data
     return t, t1 / t, dict(compute=comp, collectives=coll, data=data)
 
@@ -182,14 +195,15 @@ def main():
         g_remote = g_total = 0.0
         for rec in recs:
             remote, own = ghost_volumes(rec["domain"], rec["node_grid"], r)
-            pred = RHO * (remote + own / 2)
+            pred = RHO * (remote + own) / 2  # half shell: half of each part
             checks.append(dict(P=P, rank=rec["rank"], ghosts=rec["n_ghosts"], predicted=pred,
                                ratio=rec["n_ghosts"] / pred))
             g_total += rec["n_ghosts"]
-            g_remote += RHO * remote / P
+            g_remote += RHO * remote / 2 / P
         st = [rec["stats"] for rec in recs]
         nst = steps
         per = dict(alltoallv=statistics.mean(x["alltoallv"] for x in st) / nst,
+                   neighbor=statistics.mean(x.get("neighbor", 0) for x in st) / nst,
                    allreduce=statistics.mean(x["allreduce"] for x in st) / nst,
                    other=statistics.mean(x["other"] for x in st) / nst,
                    messages=statistics.mean(x["messages"] for x in st) / nst,
@@ -222,22 +236,25 @@ def main():
         for beta in (0.5e9, 5e9):
             for P in (8, 64, 128, 256, 512, 1024):
                 row = dict(n_per_rank=n_per, beta=beta, P=P, grid=node_grid(P))
-                for name, kw in (("full_linear", {}), ("full_bruck", dict(bruck=True)),
-                                 ("half_bruck", dict(bruck=True, half_shell=True))):
-                    t, E, parts = model(P, n_per, R1, kappa, per_step, 2e-6, beta, **kw)
+                for name, per, kw in (("full_linear", FULL_SHELL_PER_STEP, {}),
+                                      ("full_bruck", FULL_SHELL_PER_STEP, dict(bruck=True)),
+                                      ("half_linear", per_step, dict(half_shell=True)),
+                                      ("half_bruck", per_step, dict(bruck=True, half_shell=True))):
+                    t, E, parts = model(P, n_per, R1, kappa, per, 2e-6, beta, **kw)
                     row[name] = dict(t_step=t, E=E, **parts)
                 table.append(row)
     print("\nweak-scaling efficiency E(P) = t(1)/t(P) (alpha = 2 us)")
-    print(f"{'n/rank':>7} {'beta GB/s':>9} {'P':>5}  full shell, linear a2a | full, Bruck | half shell, Bruck")
+    print(f"{'n/rank':>7} {'beta GB/s':>9} {'P':>5}  before: full shell, linear a2a | full, Bruck"
+          f" | now: half shell, p2p, linear a2a | half, Bruck")
     for row in table:
         print(f"{row['n_per_rank']:>7} {row['beta'] / 1e9:>9.1f} {row['P']:>5}  "
-              f"{row['full_linear']['E']:>22.2f} | {row['full_bruck']['E']:>11.2f} | "
-              f"{row['half_bruck']['E']:>17.2f}")
+              f"{row['full_linear']['E']:>30.2f} | {row['full_bruck']['E']:>11.2f} | "
+              f"{row['half_linear']['E']:>32.2f} | {row['half_bruck']['E']:>11.2f}")
     from bench_common import machine_info
     res = dict(machine=machine_info(), L_measured=L, steps=steps, skin=SKIN, r_cut=RCUT,
                measured={str(k): v for k, v in measured.items()}, ghost_checks=checks,
                ghost_model_worst_rel_error=worst, R1=R1, R1_rounds=rates, kappa=kappa,
-               kappa_fits=kappas, alpha=2e-6, table=table)
+               kappa_fits=kappas, alpha=2e-6, full_shell_per_step=FULL_SHELL_PER_STEP, table=table)
     os.makedirs(a.out, exist_ok=True)
     name = "mpi_weak_model_quick" if a.quick else "mpi_weak_model"
     with open(os.path.join(a.out, name + ".json"), "w") as f:

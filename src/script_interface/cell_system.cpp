@@ -41,6 +41,7 @@ void bind_cell_system(py::class_<System> &cls) {
     auto const &c = s.comm().stats();
     py::dict d;
     d["allreduce"] = c.allreduce, d["alltoallv"] = c.alltoallv, d["other"] = c.other;
+    d["neighbor"] = c.neighbor;
     d["messages"] = c.messages, d["bytes"] = c.bytes;
     return d;
   });

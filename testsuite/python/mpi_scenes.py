@@ -45,6 +45,26 @@ def scene_marble_big():
     return scene_marble(L=8.0, R=3.0, steps=100)
 
 
+def scene_suspension():
+    """Colloids whose pairs reach farther than the solvent's (a large-range
+    cell grid of their own, cells/CellSystem.hpp): they come to the other
+    ranks from all sides, the solvent in a half shell. 20 VV steps with DPD
+    noise; on one rank without the split (one grid), on N with it."""
+    L = 9.0
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = 1e-3
+    s.cell_system.skin = 0.4
+    s.cell_system.large_range_types = None if marble.mpi_size() == 1 else "auto"
+    marble.suspensions.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
+                                        seed=4, h_cut=1.0)
+    s.integrator.set_vv()
+    s.integrator.run(20)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                   types=np.array(s.cell_system.get_state()["large_range_types"]),
+                   node_grid=np.array(s.cell_system.node_grid))
+
+
 def scene_lj():
     """A Lennard-Jones fluid (VV without thermostat): energy conservation across ranks."""
     rng = np.random.default_rng(2)

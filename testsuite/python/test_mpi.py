@@ -73,6 +73,30 @@ def test_marble_trajectory_1_vs_2_ranks(marble_runs):
 
 
 @needs("MARBLE", "DPD")
+def test_marble_trajectory_4_and_8_ranks(marble_runs):
+    """The half shell on a 2 x 2 x 1 and a 2 x 2 x 2 node grid: every pair across
+    ranks (also across the periodic faces, all three axes split) computed once."""
+    for n, grid in ((4, (2, 2, 1)), (8, (2, 2, 2))):
+        res = run("marble", n)
+        assert tuple(res["node_grid"]) == grid
+        assert_same_trajectory(marble_runs[1], res)
+        for key in ("cpos", "cv", "comega", "ctorque"):
+            np.testing.assert_allclose(res[key], marble_runs[1][key], rtol=0, atol=1e-9, err_msg=key)
+
+
+@needs("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS")
+def test_large_range_types_on_1_4_8_ranks():
+    """Colloids with their own large-range grid (full shell, pairs by id) in a
+    half-shell solvent: 1 rank (one grid) vs 4 and 8 ranks (the split)."""
+    one = run("suspension", 1)
+    assert list(one["types"]) == []
+    for n in (4, 8):
+        res = run("suspension", n)
+        assert list(res["types"]) == [1]
+        assert_same_trajectory(one, res, tol=1e-8)
+
+
+@needs("MARBLE", "DPD")
 def test_particles_cross_domain_boundaries(marble_runs):
     # in 100 steps of a DPD fluid (thermal speed ~ 1) many beads change rank
     assert int(marble_runs[2]["migrated"]) > 50

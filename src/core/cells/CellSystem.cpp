@@ -8,6 +8,7 @@
 #include <limits>
 #include <type_traits>
 #include <cstdint>
+#include <cstring>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -32,13 +33,35 @@ bool shift_positive(Vector3d const &s) {
   return false;
 }
 
-/** A pair of local @p i and ghost @p j (>= n_local) of another rank's particle
- * is computed by the rank owning the smaller id: true if it is not this one. */
-bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) {
-  return ps.ghost_owner[j - n_local] < 0 && ps.id[i] > ps.id[j];
+/** An image of a particle of the rank at node coordinates @p src, shifted by
+ * @p n box lengths, is sent to the rank at @p dest (half shell) if the offset
+ * (src + n * grid) - dest is lexicographically positive: of the two ranks of
+ * a cross-rank pair the offsets are opposite, so exactly one gets the other's
+ * particle (and computes the pair). On one rank (src = dest) this is the
+ * positive-shift rule of the periodic images. */
+bool half_shell_sends(std::array<int, 3> const &src, std::array<int, 3> const &n,
+                      std::array<int, 3> const &grid, std::array<int, 3> const &dest) {
+  for (int d = 0; d < 3; ++d) {
+    int const off = src[d] + n[d] * grid[d] - dest[d];
+    if (off != 0)
+      return off > 0;
+  }
+  return false;
 }
 
 } // namespace
+
+/** A pair of local @p i and ghost @p j (>= n_local): true if another rank
+ * computes it (then it is left out here). Own periodic images: never. Other
+ * ranks' small particles come in a half shell (make_ghosts), so the pair is
+ * computed here. Large-range particles and colloid copies come from all
+ * sides (a full shell): the rank owning the smaller id computes the pair. */
+bool CellSystem::other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const {
+  int const o = ps.ghost_owner[j - n_local];
+  if (o >= 0 || (o == kRemoteGhost && !wide(ps.type[j])))
+    return false;
+  return ps.id[i] > ps.id[j];
+}
 
 // Cells are at least `range` wide, so all partners of a local are in the 27
 // cells around it.
@@ -224,6 +247,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   // shift (their pairs with small particles are listed from the large side).
   std::vector<Vector3d> shifts;
   std::vector<char> positive;
+  std::vector<std::array<int, 3>> ishifts; // the shifts in box lengths
   for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
     for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
       for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
@@ -232,21 +256,28 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
         if (par || pos || any_wide) {
           shifts.push_back(sh);
           positive.push_back(pos ? 1 : 0);
+          ishifts.push_back({sx, sy, sz});
         }
       }
+  std::array<int, 3> const me_at = coords_of(g, me);
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
-  // One rank, one range: a particle farther than the range (plus a margin
-  // far above round-off) from every periodic face gets no image (every shift
-  // has a non-zero component along some periodic axis, whose cheap reject
-  // below then holds): skip it without visiting the shifts.
-  bool const interior_test = !par && !any_wide;
+  // One range: a particle farther than the range (plus a margin far above
+  // round-off) from every face of its domain along the periodic or split
+  // axes gets no ghost (every shift has a non-zero component along some
+  // periodic axis, whose cheap reject below then holds, and the unshifted
+  // position lies in no other rank's grown domain): skip it without visiting
+  // the shifts. On one rank the domain is the box.
+  bool const interior_test = !any_wide;
   Vector3d in_lo, in_hi;
   for (int d = 0; d < 3; ++d) {
     double const margin = 1e-9 * (L[d] + m_range);
-    in_lo[d] = box.periodic(d) ? m_range + margin : -std::numeric_limits<double>::infinity();
-    in_hi[d] = box.periodic(d) ? L[d] - m_range - margin : std::numeric_limits<double>::infinity();
+    bool const edge = box.periodic(d) || g[d] > 1;
+    double const lo = par ? coords_of(g, me)[d] * dl[d] : 0.;
+    double const hi = par ? lo + dl[d] : L[d];
+    in_lo[d] = edge ? lo + m_range + margin : -std::numeric_limits<double>::infinity();
+    in_hi[d] = edge ? hi - m_range - margin : std::numeric_limits<double>::infinity();
   }
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
@@ -299,8 +330,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
             if (dest == me) {
               if (own_image)
                 ps.add_ghost(i, sh);
-            } else {
-              m_send[dest].push_back({i, sh});
+            } else if (w || half_shell_sends(me_at, ishifts[k], g, {cx, cy, cz})) {
+              m_send[dest].push_back({i, sh}); // large-range particles: a full shell
             }
           }
     }
@@ -791,37 +822,65 @@ template <typename F> void CellSystem::for_each_own_image(ParticleStore const &p
 }
 
 // Owners -> other ranks' ghosts: pack(send entry) for each entry of m_send,
-// unpack(ghost index, value) on the receiving rank, in the same order.
+// unpack(ghost index, value) on the receiving rank, in the same order. The
+// sizes are fixed between rebuilds (m_send[q] out, m_recv_count[q] in), so
+// the data go point to point to the neighbour ranks, with no count exchange.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  std::vector<std::vector<T>> send(size);
+  m_xsend.resize(static_cast<std::size_t>(size));
+  m_xrecv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(m_send[q].size());
-    for (auto const &e : m_send[q])
-      send[q].push_back(pack(e));
+    auto &buf = m_xsend[q];
+    buf.resize(m_send[q].size() * sizeof(T));
+    char *out = buf.data();
+    for (auto const &e : m_send[q]) {
+      T const x = pack(e);
+      std::memcpy(out, &x, sizeof(T));
+      out += sizeof(T);
+    }
+    m_xrecv[q].resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
   }
-  auto const recv = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      unpack(m_recv_begin[q] + k, recv[q][static_cast<std::size_t>(k)]);
+  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
+  for (int q = 0; q < size; ++q) {
+    char const *in = m_xrecv[q].data();
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      T x;
+      std::memcpy(&x, in + static_cast<std::size_t>(k) * sizeof(T), sizeof(T));
+      unpack(m_recv_begin[q] + k, x);
+    }
+  }
 }
 
 // The reverse: pack(ghost index) for the ghosts from each rank, unpack(local
 // index, value) on their owner.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
+  static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  std::vector<std::vector<T>> send(size);
+  m_xsend.resize(static_cast<std::size_t>(size));
+  m_xrecv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(static_cast<std::size_t>(m_recv_count[q]));
-    for (int k = 0; k < m_recv_count[q]; ++k)
-      send[q].push_back(pack(m_recv_begin[q] + k));
+    auto &buf = m_xsend[q];
+    buf.resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
+    char *out = buf.data();
+    for (int k = 0; k < m_recv_count[q]; ++k) {
+      T const x = pack(m_recv_begin[q] + k);
+      std::memcpy(out, &x, sizeof(T));
+      out += sizeof(T);
+    }
+    m_xrecv[q].resize(m_send[q].size() * sizeof(T));
   }
-  auto const back = m_comm->alltoallv(send);
-  for (int q = 0; q < size; ++q)
-    for (std::size_t k = 0; k < m_send[q].size(); ++k)
-      unpack(m_send[q][k].index, back[q][k]);
+  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
+  for (int q = 0; q < size; ++q) {
+    char const *in = m_xrecv[q].data();
+    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
+      T x;
+      std::memcpy(&x, in + k * sizeof(T), sizeof(T));
+      unpack(m_send[q][k].index, x);
+    }
+  }
 }
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {

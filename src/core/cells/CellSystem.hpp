@@ -12,12 +12,17 @@
 //
 // With several ranks, a rebuild first migrates every particle to the rank
 // whose domain holds its folded position, then each rank receives copies of
-// the other ranks' particles within `range` of its domain (all sides), and
-// large particles (colloids) of every other rank whatever their distance.
-// A pair of a local and another rank's particle is kept on the rank that
-// owns the smaller id, so every pair is computed once; the force on such a
-// ghost (and the force/torque on a colloid copy) is sent back to its owner
-// by reduce_ghost_forces(). docs: doc/parallel.md.
+// the other ranks' particles within `range` of its domain from half of the
+// sides (a half shell: an image goes from the rank at node coordinates a,
+// shifted by n box lengths, to the rank at b if (a + n * grid) - b is
+// lexicographically positive; of two ranks sharing a pair exactly one gets
+// the other's particle and computes the pair), and large particles
+// (colloids) of every other rank whatever their distance. Large-range types
+// and colloid copies come from all sides; their pairs with another rank's
+// particle are kept on the rank owning the smaller id. The force on a ghost
+// (and the force/torque on a colloid copy) is sent back to its owner by
+// reduce_ghost_forces(); ghost updates and force returns go point to point
+// to the neighbour ranks only. docs: doc/parallel.md.
 //
 // Large-range types (colloids of a suspension, doc/architecture.md "Two cell
 // grids"): set_large_range() names types whose pairs reach much farther than
@@ -221,6 +226,7 @@ private:
     Utils::Vector3d shift;
   };
   void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
+  bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const;
   template <typename F> void for_each_own_image(ParticleStore const &ps, F &&fn) const;
   template <typename T, typename Pack, typename Unpack>
   void to_remote_ghosts(Pack &&pack, Unpack &&unpack) const;
@@ -261,6 +267,7 @@ private:
   // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
   std::vector<std::vector<SendEntry>> m_send;
   std::vector<int> m_recv_begin, m_recv_count;
+  mutable std::vector<std::vector<char>> m_xsend, m_xrecv; // neighbour-exchange buffers, kept
 };
 
 } // namespace Marble

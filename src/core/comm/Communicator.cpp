@@ -152,6 +152,31 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
     out[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
   return out;
 }
+void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const &send,
+                                           std::vector<std::vector<char>> &recv) const {
+  if (m_size == 1)
+    return;
+  ++m_stats.neighbor;
+  // one tag for all: the blocks between two ranks arrive in the order sent
+  // (MPI's non-overtaking rule), and each call completes before the next
+  constexpr int kTag = 7301;
+  std::vector<MPI_Request> req;
+  req.reserve(2 * static_cast<std::size_t>(m_size));
+  for (int r = 0; r < m_size && r < static_cast<int>(recv.size()); ++r)
+    if (r != m_rank && !recv[r].empty()) {
+      req.emplace_back();
+      MPI_Irecv(recv[r].data(), static_cast<int>(recv[r].size()), MPI_BYTE, r, kTag, m_comm, &req.back());
+    }
+  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
+    if (r != m_rank && !send[r].empty()) {
+      ++m_stats.messages;
+      m_stats.bytes += static_cast<long long>(send[r].size());
+      req.emplace_back();
+      MPI_Isend(send[r].data(), static_cast<int>(send[r].size()), MPI_BYTE, r, kTag, m_comm, &req.back());
+    }
+  if (!req.empty())
+    MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+}
 void Communicator::barrier() const {
   if (m_size > 1) {
     ++m_stats.other;
@@ -193,6 +218,8 @@ std::vector<std::vector<char>>
 Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const {
   return {send.empty() ? std::vector<char>{} : send[0]};
 }
+void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const &,
+                                           std::vector<std::vector<char>> &) const {}
 void Communicator::barrier() const {}
 void Communicator::throw_if_any(std::string const &local_error) const {
   if (!local_error.empty())

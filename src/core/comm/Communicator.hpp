@@ -23,9 +23,10 @@ namespace Marble {
 struct CommStats {
   long long allreduce = 0;  ///< reductions (sum/max/min) on more than one rank
   long long alltoallv = 0;  ///< alltoallv exchanges (each: one MPI_Alltoall of counts + one MPI_Alltoallv)
+  long long neighbor = 0;   ///< neighbour exchanges (point-to-point, sizes known: no count exchange)
   long long other = 0;      ///< broadcasts, allgathers, barriers
-  long long messages = 0;   ///< non-empty alltoallv blocks sent to other ranks
-  long long bytes = 0;      ///< alltoallv bytes sent to other ranks
+  long long messages = 0;   ///< non-empty blocks sent to other ranks (alltoallv and neighbour exchanges)
+  long long bytes = 0;      ///< bytes of those blocks
 };
 
 class Communicator {
@@ -102,6 +103,13 @@ public:
     }
     return out;
   }
+  /** Neighbour exchange with sizes known on both sides (no count exchange):
+   * @p send[r] goes to rank r and @p recv[r], which the caller has sized to
+   * what rank r sends, is filled from rank r; only non-empty blocks become
+   * messages (MPI_Isend/MPI_Irecv), so only the ranks that exchange data take
+   * part. Every rank of the group must call it (an empty call is free). */
+  void neighbor_exchange_bytes(std::vector<std::vector<char>> const &send,
+                               std::vector<std::vector<char>> &recv) const;
   std::vector<char> allgatherv_bytes(std::vector<char> const &local) const;
   std::vector<std::vector<char>> alltoallv_bytes(std::vector<std::vector<char>> const &send) const;
   void barrier() const;

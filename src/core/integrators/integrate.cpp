@@ -46,9 +46,9 @@ void System::kick(double half_dt) {
 // skin or makes it non-finite: the step is checked first (on every rank) and
 // then done, so a refused step changes nothing. Two sweeps over the locals:
 // (1) [the previous step's closing half kick, when run_md deferred it:
-// kick_one] and the check; (2) the half kick and drift, and
-// the Verlet-list displacement test on the new positions (the test
-// ensure_lists would otherwise do in a third sweep).
+// kick_one], the check, and the Verlet-list displacement test on the new
+// positions (the test ensure_lists would otherwise do in a third sweep),
+// both voted on in one reduction over the ranks; (2) the half kick and drift.
 void System::drift_checked(bool kick_first) {
   double const dt = m_time_step;
   double const half_dt = 0.5 * m_time_step;
@@ -78,6 +78,11 @@ void System::drift_checked(bool kick_first) {
   };
   int bad = -1;
   double bad_disp2 = 0.;
+  // the list's displacement test (CellSystem::displacement_exceeds_half_skin)
+  // on the new positions x + dx, voted on with the step check below
+  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
+  auto const *const x0 = m_ps.pos_at_rebuild.data();
+  bool moved = false;
   if (kick_first) {
     for (int i = 0; i < n; ++i) {
       am[i] = kick_one(i, half_dt);
@@ -88,6 +93,7 @@ void System::drift_checked(bool kick_first) {
         bad = i;
         bad_disp2 = disp2;
       }
+      moved |= (x[i] + dx - x0[i]).norm2() > lim2;
     }
   } else {
     for (int i = 0; i < n; ++i)
@@ -101,9 +107,13 @@ void System::drift_checked(bool kick_first) {
         bad_disp2 = disp2;
         break;
       }
+      moved |= (x[i] + dx - x0[i]).norm2() > lim2;
     }
   }
-  if (m_comm.any(bad >= 0)) {
+  // one reduction for both: 2 = some rank refuses the step, 1 = some local
+  // (on any rank) will have moved more than skin/2 (the list must be rebuilt)
+  int const vote = m_comm.max(bad >= 0 ? 2 : (moved ? 1 : 0));
+  if (vote == 2) {
     m_forces_valid = false;
     m_cells.invalidate();
     // the friction limits (integrators/stability.cpp) name a likelier cause
@@ -133,22 +143,17 @@ void System::drift_checked(bool kick_first) {
     }
     m_comm.throw_if_any(msg);
   }
-  // the list's displacement test (CellSystem::displacement_exceeds_half_skin)
-  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
-  auto const *const x0 = m_ps.pos_at_rebuild.data();
-  bool moved = false;
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
     v[i] += dv;
     x[i] += dx;
-    moved |= (x[i] - x0[i]).norm2() > lim2;
 #ifdef ROTATION
     if (m_ps.rotation[i])
       m_ps.omega[i] += (0.5 * dt / m_ps.rinertia[i]) * m_ps.torque[i];
 #endif
   }
-  m_displacement_hint = moved ? 1 : 0;
+  m_displacement_hint = vote; // already agreed by all ranks
 }
 
 void System::check_thermostats_before_run() const {

@@ -141,11 +141,11 @@ void System::ensure_lists() {
     cut = 1.;
 #endif
   // the drift sweep of run_md has already compared the positions with those
-  // of the last build (same test, same positions): only the vote is left
+  // of the last build (same test, same positions) and voted over the ranks
   int const hint = m_displacement_hint;
   m_displacement_hint = -1;
   if (!m_cells.valid() || cut != m_cut_at_rebuild ||
-      (hint >= 0 ? m_comm.any(hint != 0) : m_cells.displacement_exceeds_half_skin(m_ps))) {
+      (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps))) {
     m_cells.rebuild(m_ps, m_box, configure_large_range(cut));
     m_cut_at_rebuild = cut;
 #ifdef MARBLE

@@ -257,9 +257,10 @@ private:
   bool m_forces_valid = false;
   bool m_dpd_in_pair_loop = true;
   double m_cut_at_rebuild = -1.;
-  /** Set by drift_checked: whether some local (this rank) moved more than
-   * skin/2 since the last list build (-1: not known); read and cleared by
-   * the next ensure_lists, which then skips its own sweep. */
+  /** Set by drift_checked: whether some local (on any rank: the vote is
+   * already reduced) moved more than skin/2 since the last list build (-1:
+   * not known); read and cleared by the next ensure_lists, which then skips
+   * its own sweep and reduction. */
   int m_displacement_hint = -1;
   std::vector<double> m_half_dt_over_m; // drift_checked's 0.5 dt / m per local
   int m_large_range_mode = -1;
