@@ -3,14 +3,20 @@
 #include "utils/errors.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <numeric>
+#include <thread>
 
 namespace Marble {
 
 #ifdef MARBLE_HAVE_MPI
 namespace {
 bool g_we_initialised = false;
+// A duplicate of MPI_COMM_WORLD used only for the exit handshake below (so it
+// never matches a collective call of marble on MPI_COMM_WORLD).
+MPI_Comm g_exit_comm = MPI_COMM_NULL;
 bool mpi_ready() {
   int init = 0, fin = 0;
   MPI_Initialized(&init);
@@ -26,12 +32,78 @@ void mpi_init_once() {
     int provided = 0;
     MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     g_we_initialised = true;
+    MPI_Comm_dup(MPI_COMM_WORLD, &g_exit_comm);
   }
 }
 
+namespace {
+/** Exit handshake: a rank that reached the end of the script waits (on its
+ * own communicator, polling) until every rank has. If some rank is still
+ * inside a collective marble call after 10 s, the usual cause is a call made
+ * on some ranks only (a particle read inside `if marble.mpi_rank() == 0:`),
+ * which would otherwise hang in MPI_Finalize without a word: say so on
+ * stderr, and after MARBLE_MPI_EXIT_TIMEOUT seconds (default 600; 0: wait
+ * forever) stop all ranks with MPI_Abort. */
+void exit_handshake() {
+  int size = 1, rank = 0;
+  MPI_Comm_size(g_exit_comm, &size);
+  MPI_Comm_rank(g_exit_comm, &rank);
+  if (size == 1)
+    return;
+  double timeout = 600.;
+  if (char const *e = std::getenv("MARBLE_MPI_EXIT_TIMEOUT")) {
+    char *end = nullptr;
+    double const t = std::strtod(e, &end);
+    if (end != e && t >= 0.)
+      timeout = t;
+  }
+  double const warn_after = timeout > 0. ? std::min(10., 0.5 * timeout) : 10.;
+  MPI_Request req;
+  MPI_Ibarrier(g_exit_comm, &req);
+  auto const t0 = std::chrono::steady_clock::now();
+  bool warned = false;
+  for (;;) {
+    int done = 0;
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done)
+      return;
+    double const waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!warned && waited >= warn_after) {
+      warned = true;
+      std::fprintf(stderr,
+                   "marble: rank %d reached the end of the script %.0f s ago, but another rank "
+                   "has not: it is probably waiting in a collective marble call that this rank "
+                   "never made (a particle read such as p.pos, an observable or analysis call "
+                   "inside `if marble.mpi_rank() == 0:`; do the reads on every rank, then write "
+                   "on rank 0 only: doc/parallel.md)%s\n",
+                   rank, waited,
+                   timeout > 0. ? "; all ranks stop after MARBLE_MPI_EXIT_TIMEOUT seconds" : "");
+      std::fflush(stderr);
+    }
+    if (timeout > 0. && waited >= timeout) {
+      std::fprintf(stderr,
+                   "marble: rank %d stops all ranks: the other ranks did not reach the end of the "
+                   "script within MARBLE_MPI_EXIT_TIMEOUT = %g s (see the message above)\n",
+                   rank, timeout);
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (waited < 1.)
+      std::this_thread::yield();
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+} // namespace
+
 void mpi_finalize_once() {
-  if (g_we_initialised && mpi_ready())
+  if (g_we_initialised && mpi_ready()) {
+    if (g_exit_comm != MPI_COMM_NULL) {
+      exit_handshake();
+      MPI_Comm_free(&g_exit_comm);
+    }
     MPI_Finalize();
+  }
   g_we_initialised = false;
 }
 
