@@ -39,6 +39,17 @@ def test_thin_domains_agree_with_one_rank(scene, ranks, grid):
     assert_same_trajectory(one, many)
 
 
+def test_particles_moved_to_a_far_rank():
+    """Migration talks to the neighbour ranks only during a run (no all-rank
+    alltoallv), but particles moved by the script to a rank that is not a
+    neighbour of their owner arrive through the all-rank fallback."""
+    one, six = run("teleport", 1), run("teleport", 6)
+    assert tuple(six["node_grid"]) == (6, 1, 1)
+    assert_same_trajectory(one, six)
+    assert int(six["a2a_run"]) == 0
+    assert int(six["a2a_teleport"]) >= 1
+
+
 def test_read_on_rank0_only_stops_all_ranks():
     env = mpi_env(MARBLE_MPI_EXIT_TIMEOUT="4")
     with tempfile.TemporaryDirectory() as d:

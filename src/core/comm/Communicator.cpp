@@ -249,6 +249,36 @@ void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const 
   if (!req.empty())
     MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
 }
+void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
+                                               std::vector<std::vector<char>> const &send,
+                                               std::vector<std::vector<char>> &recv) const {
+  if (m_size == 1)
+    return;
+  ++m_stats.neighbor;
+  // its own tag: never matched by the fixed-size exchange's receives; blocks
+  // between two ranks arrive in the order sent (non-overtaking)
+  constexpr int kTag = 7302;
+  recv.resize(static_cast<std::size_t>(m_size));
+  std::vector<MPI_Request> req(nbrs.size());
+  for (std::size_t k = 0; k < nbrs.size(); ++k) {
+    int const q = nbrs[k];
+    auto const &b = send[static_cast<std::size_t>(q)];
+    ++m_stats.messages;
+    m_stats.bytes += static_cast<long long>(b.size());
+    MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_BYTE, q, kTag, m_comm, &req[k]);
+  }
+  for (int q : nbrs) {
+    MPI_Status st;
+    MPI_Probe(q, kTag, m_comm, &st);
+    int n = 0;
+    MPI_Get_count(&st, MPI_BYTE, &n);
+    auto &b = recv[static_cast<std::size_t>(q)];
+    b.resize(static_cast<std::size_t>(n));
+    MPI_Recv(b.data(), n, MPI_BYTE, q, kTag, m_comm, MPI_STATUS_IGNORE);
+  }
+  if (!req.empty())
+    MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+}
 void Communicator::barrier() const {
   if (m_size > 1) {
     ++m_stats.other;
@@ -292,6 +322,9 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
 }
 void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const &,
                                            std::vector<std::vector<char>> &) const {}
+void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &,
+                                               std::vector<std::vector<char>> const &,
+                                               std::vector<std::vector<char>> &) const {}
 void Communicator::barrier() const {}
 void Communicator::throw_if_any(std::string const &local_error) const {
   if (!local_error.empty())
