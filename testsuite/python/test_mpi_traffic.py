@@ -94,7 +94,8 @@ def test_ghosts_and_traffic(ranks):
         assert rec["ghosts"] == rec["expected"], rec
         st = rec["stats"]
         if ranks == 1:
-            assert st == dict(allreduce=0, alltoallv=0, neighbor=0, other=0, messages=0, bytes=0), st
+            assert st == dict(allreduce=0, alltoallv=0, neighbor=0, other=0, messages=0, bytes=0,
+                              cpu_seconds=0.0, wall_seconds=0.0), st
         else:
             # ghost positions/velocities out (but at a Verlet-list rebuild, which sends
             # whole ghost records) and ghost forces back: neighbour exchanges (point to
@@ -104,3 +105,4 @@ def test_ghosts_and_traffic(ranks):
             assert st["alltoallv"] == 0, st
             assert st["messages"] >= 2 * 10 * (ranks - 1), st
             assert st["bytes"] > 0 and st["allreduce"] >= 10, st
+            assert 0.0 < st["wall_seconds"] and 0.0 <= st["cpu_seconds"], st

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <numeric>
 #include <thread>
+#include <time.h>
 
 namespace Marble {
 
@@ -122,41 +123,65 @@ Communicator::Communicator() {
 }
 
 namespace {
+/** Adds the thread CPU time and the wall time of its scope to the counters
+ * (bench/mpi_scaling.py: the time a rank spends in communication and waits). */
+class CommTimer {
+public:
+  explicit CommTimer(CommStats &s) : m_s(s), m_c0(cpu_now()), m_w0(MPI_Wtime()) {}
+  ~CommTimer() {
+    m_s.cpu_seconds += cpu_now() - m_c0;
+    m_s.wall_seconds += MPI_Wtime() - m_w0;
+  }
+  CommTimer(CommTimer const &) = delete;
+  CommTimer &operator=(CommTimer const &) = delete;
+
+private:
+  static double cpu_now() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  CommStats &m_s;
+  double m_c0, m_w0;
+};
+
 template <typename T> MPI_Datatype mpi_type();
 template <> MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
 template <> MPI_Datatype mpi_type<long long>() { return MPI_LONG_LONG; }
 template <> MPI_Datatype mpi_type<int>() { return MPI_INT; }
 
 // In-place allreduce of n values (nothing to do on one rank).
-template <typename T> void allreduce(long long &count, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
+template <typename T> void allreduce(CommStats &st, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
   if (size > 1 && n > 0) {
-    ++count;
+    ++st.allreduce;
+    CommTimer const timer(st);
     MPI_Allreduce(MPI_IN_PLACE, x, n, mpi_type<T>(), op, comm);
   }
 }
 } // namespace
 
-void Communicator::sum_inplace(double *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
-void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(double *x, int n) const { allreduce(m_stats, m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_stats, m_comm, m_size, x, n, MPI_SUM); }
 double Communicator::max(double x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 double Communicator::min(double x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 int Communicator::max(int x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 int Communicator::min(int x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {
   if (m_size > 1 && n > 0) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, m_comm);
   }
 }
@@ -179,6 +204,7 @@ std::vector<int> Communicator::allgather(int x) const {
   std::vector<int> out(m_size, x);
   if (m_size > 1) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Allgather(&x, 1, MPI_INT, out.data(), 1, MPI_INT, m_comm);
   }
   return out;
@@ -191,6 +217,7 @@ std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local)
   for (int r = 1; r < m_size; ++r)
     displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<char> out(static_cast<std::size_t>(displs.back() + counts.back()));
+  CommTimer const timer(m_stats);
   MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_BYTE, out.data(), counts.data(),
                  displs.data(), MPI_BYTE, m_comm);
   return out;
@@ -201,6 +228,7 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
     return {send.empty() ? std::vector<char>{} : send[0]};
   std::vector<int> sc(m_size, 0), rc(m_size, 0), sd(m_size, 0), rd(m_size, 0);
   ++m_stats.alltoallv;
+  CommTimer const timer(m_stats);
   for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r) {
     sc[r] = static_cast<int>(send[r].size());
     if (r != m_rank && sc[r] > 0) {
@@ -229,6 +257,7 @@ void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const 
   if (m_size == 1)
     return;
   ++m_stats.neighbor;
+  CommTimer const timer(m_stats);
   // one tag for all: the blocks between two ranks arrive in the order sent
   // (MPI's non-overtaking rule), and each call completes before the next
   constexpr int kTag = 7301;
@@ -255,6 +284,7 @@ void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
   if (m_size == 1)
     return;
   ++m_stats.neighbor;
+  CommTimer const timer(m_stats);
   // its own tag: never matched by the fixed-size exchange's receives; blocks
   // between two ranks arrive in the order sent (non-overtaking)
   constexpr int kTag = 7302;
@@ -282,6 +312,7 @@ void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
 void Communicator::barrier() const {
   if (m_size > 1) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Barrier(m_comm);
   }
 }

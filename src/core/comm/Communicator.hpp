@@ -27,6 +27,8 @@ struct CommStats {
   long long other = 0;      ///< broadcasts, allgathers, barriers
   long long messages = 0;   ///< messages sent to other ranks (non-empty alltoallv blocks, neighbour messages)
   long long bytes = 0;      ///< bytes of those blocks
+  double cpu_seconds = 0.;  ///< this thread's CPU time inside those MPI calls (waits poll: CPU)
+  double wall_seconds = 0.; ///< wall time inside those MPI calls
 };
 
 class Communicator {
