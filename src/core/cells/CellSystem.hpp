@@ -22,7 +22,10 @@
 // particle are kept on the rank owning the smaller id. The force on a ghost
 // (and the force/torque on a colloid copy) is sent back to its owner by
 // reduce_ghost_forces(); ghost updates and force returns go point to point
-// to the neighbour ranks only. docs: doc/parallel.md.
+// to the neighbour ranks only, and so do the migration and the ghost set-up
+// at a rebuild (sizes probed; the all-rank alltoallv only for a particle
+// bound for a rank that is not a neighbour, or for colloid copies).
+// docs: doc/parallel.md.
 //
 // Large-range types (colloids of a suspension, doc/architecture.md "Two cell
 // grids"): set_large_range() names types whose pairs reach much farther than
