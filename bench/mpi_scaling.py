@@ -10,7 +10,17 @@ interleaved (1 2 1 2 ...) so that load from other processes hits them alike.
 Reported per case: median particle-steps per wall-second, and the parallel
 efficiency E = t_1 / (N t_N) of the medians. On a shared machine E is only
 meaningful when N cores are free: the JSON records the load average before
-and after. Writes bench/results/mpi_scaling.json and .png.
+and after. Two CPU-time efficiencies are reported as well, which a busy
+machine disturbs much less (every rank records its process CPU time and,
+from `_core.comm_stats()`, the CPU time it spent inside MPI calls):
+  E_cpu  = cpu_1 / sum_r cpu_r: all CPU time, the polling waits included
+           (Open MPI polls, so a rank waiting for a descheduled partner
+           burns CPU: a lower bound on a busy machine);
+  E_work = cpu_1 / sum_r (cpu_r - cpu in MPI calls_r): the work alone (ghost
+           updates, ghost pairs, the extra list work): what the scheme
+           costs on top of the split work, an upper bound for an idle
+           machine, where the waits are short but not zero.
+Writes bench/results/mpi_scaling.json and .png.
 """
 import argparse
 import json
@@ -38,18 +48,23 @@ def worker(L, steps, rounds, out):
     s.thermostat.set_dpd(kT=1.0, seed=7)
     s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
     s.integrator.run(30)
-    wall, cpu = [], []
+    core = s._core
+    wall, cpu, comm_cpu, comm_wall = [], [], [], []
     for _ in range(rounds):
         s.analysis.energy()  # a collective call: the ranks start together
+        core.reset_comm_stats()
         t0, c0 = time.perf_counter(), time.process_time()
         s.integrator.run(steps)
         s.analysis.energy()
         wall.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
-    if marble.mpi_rank() == 0:
-        with open(out, "w") as f:
-            json.dump(dict(n=n, steps=steps, wall=wall, cpu_rank0=cpu, ranks=marble.mpi_size(),
-                           node_grid=list(s.cell_system.node_grid)), f)
+        st = dict(core.comm_stats())
+        comm_cpu.append(st.get("cpu_seconds", 0.0))
+        comm_wall.append(st.get("wall_seconds", 0.0))
+    # every rank writes its own record (no collective read needed)
+    with open(f"{out}.{marble.mpi_rank()}", "w") as f:
+        json.dump(dict(n=n, steps=steps, wall=wall, cpu=cpu, comm_cpu=comm_cpu, comm_wall=comm_wall,
+                       ranks=marble.mpi_size(), node_grid=list(s.cell_system.node_grid)), f)
 
 
 def launch(ranks, L, steps, rounds):
@@ -60,8 +75,17 @@ def launch(ranks, L, steps, rounds):
         cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", "none", sys.executable,
                os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out]
         subprocess.run(cmd, env=env, check=True)
-        with open(out) as f:
-            return json.load(f)
+        recs = []
+        for r in range(ranks):
+            with open(f"{out}.{r}") as f:
+                recs.append(json.load(f))
+        res = dict(recs[0])
+        # per round: CPU seconds summed over the ranks, without the time inside MPI calls
+        res["cpu_sum"] = [sum(x["cpu"][k] for x in recs) for k in range(len(res["wall"]))]
+        res["work_sum"] = [sum(x["cpu"][k] - x["comm_cpu"][k] for x in recs)
+                           for k in range(len(res["wall"]))]
+        res["comm_wall_max"] = [max(x["comm_wall"][k] for x in recs) for k in range(len(res["wall"]))]
+        return res
 
 
 def main():
@@ -85,10 +109,16 @@ def main():
                launches=a.launches, rounds_per_launch=rounds, cases={})
     for L, steps in cases.items():
         samples = {n: [] for n in a.ranks}
+        cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
+        work_rate = {n: [] for n in a.ranks}  # the same without the CPU time in MPI calls
+        comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
         for k in range(a.launches):
             for n in a.ranks:
                 r = launch(n, L, steps, rounds)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
+                cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
+                work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]
+                comm_share[n] += [c / w for c, w in zip(r["comm_wall_max"], r["wall"])]
                 print(f"L={L:g} ranks={n} launch {k}: "
                       f"{statistics.median(samples[n][-rounds:]):.3e} particle-steps/s", flush=True)
         case = dict(L=L, n=int(round(3 * L**3)), steps_per_round=steps)
@@ -100,9 +130,24 @@ def main():
             per_launch = [statistics.median(samples[n][k * rounds:(k + 1) * rounds])
                           / statistics.median(b0[k * rounds:(k + 1) * rounds]) / (n / a.ranks[0])
                           for k in range(a.launches)]
+            c0 = statistics.median(cpu_rate[a.ranks[0]])
+            w0 = statistics.median(work_rate[a.ranks[0]])
+            cpu_per_launch = [statistics.median(cpu_rate[n][k * rounds:(k + 1) * rounds])
+                              / statistics.median(cpu_rate[a.ranks[0]][k * rounds:(k + 1) * rounds])
+                              for k in range(a.launches)]
+            work_per_launch = [statistics.median(work_rate[n][k * rounds:(k + 1) * rounds])
+                               / statistics.median(work_rate[a.ranks[0]][k * rounds:(k + 1) * rounds])
+                               for k in range(a.launches)]
             case[f"ranks{n}"] = dict(median_wall=med, samples_wall=samples[n],
                                      speedup=med / base, efficiency=med / base / (n / a.ranks[0]),
-                                     efficiency_per_launch=per_launch)
+                                     efficiency_per_launch=per_launch,
+                                     samples_cpu_rate=cpu_rate[n], samples_work_rate=work_rate[n],
+                                     efficiency_cpu=statistics.median(cpu_rate[n]) / c0,
+                                     efficiency_cpu_per_launch=cpu_per_launch,
+                                     efficiency_work=statistics.median(work_rate[n]) / w0,
+                                     efficiency_work_per_launch=work_per_launch,
+                                     comm_wall_share=statistics.median(comm_share[n]),
+                                     comm_wall_share_range=[min(comm_share[n]), max(comm_share[n])])
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
     os.makedirs(a.out, exist_ok=True)
@@ -120,7 +165,12 @@ def main():
             e = c[f"ranks{n}"]
             summary.append(f"{key} {n} ranks E = {e['efficiency']:.3f} "
                            f"(per launch {min(e['efficiency_per_launch']):.3f}-"
-                           f"{max(e['efficiency_per_launch']):.3f})")
+                           f"{max(e['efficiency_per_launch']):.3f}), E_cpu = {e['efficiency_cpu']:.3f} "
+                           f"({min(e['efficiency_cpu_per_launch']):.3f}-"
+                           f"{max(e['efficiency_cpu_per_launch']):.3f}), E_work = "
+                           f"{e['efficiency_work']:.3f} ({min(e['efficiency_work_per_launch']):.3f}-"
+                           f"{max(e['efficiency_work_per_launch']):.3f}), time in MPI calls "
+                           f"{e['comm_wall_share']:.2f} of the wall time")
     print("EFFICIENCY: " + "; ".join(summary) +
           f"; load average {la[0]:.1f} before, {la[1]:.1f} after on {os.cpu_count()} cores"
           + (" (machine busy: not an idle measurement)" if max(la) > 0.5 else ""))

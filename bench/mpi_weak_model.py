@@ -19,25 +19,32 @@ Run:  build/pymarble bench/mpi_weak_model.py [--quick] [--out DIR]
 4. Extrapolate. Per step a rank spends
      t = n/R1 (1 + kappa g/n)                               compute + ghost work
        + c_a2a T_a2a(P) + c_red 2 alpha log2 P              collectives
-       + (c_a2a + c_nb) m alpha + B g / beta                point-to-point data
+       + (c_a2a m_a2a + c_nb m + c_var m_var) alpha + B g / beta   point-to-point data
    with n particles and g remote ghosts per rank, c_a2a all-rank alltoallv
-   exchanges, c_nb neighbour (point-to-point) exchanges and c_red reductions
-   per step and B bytes per remote ghost and step (all measured in 1.), m
-   neighbour messages per exchange (26 for a full shell, 13 for the half
-   shell of the current scheme). An alltoallv first exchanges its counts
-   with MPI_Alltoall: T_a2a = alpha (P - 1) (linear/pairwise, Open MPI's
-   choice for mid-size groups) or alpha log2 P (Bruck), both shown.
+   exchanges, c_nb fixed-size neighbour exchanges (ghost updates, force
+   returns), c_var variable-size neighbour exchanges (migration and ghost
+   set-up at a rebuild, 2 per rebuild) and c_red reductions per step and B
+   bytes per remote ghost and step (all measured in 1.), m neighbour
+   messages per fixed-size exchange (26 for a full shell, 13 for the half
+   shell), m_var = 26 (a variable-size exchange sends one message, maybe
+   empty, to each of the 26 neighbours), m_a2a = m (the non-empty blocks of
+   an alltoallv). An alltoallv first exchanges its counts with
+   MPI_Alltoall: T_a2a = alpha (P - 1) (linear/pairwise, Open MPI's choice
+   for mid-size groups) or alpha log2 P (Bruck), both shown.
    kappa (ghost work per ghost, relative to a particle) is fitted to the
    2-rank strong-scaling efficiencies measured with the full shell (0.83 at
    L = 20, 0.86 at L = 40; doc/benchmarks.md).
    Network: alpha = 2 us, beta = 0.5 GB/s per rank (a 200 Gb/s link shared
    by 64 ranks of a node) and 5 GB/s (one rank per link): stated assumptions,
-   not measurements. Two schemes are tabulated: the current one (half shell,
-   ghost updates and force returns point to point, alltoallv only at
-   rebuilds; its counts measured here) and the previous one (full shell, an
-   alltoallv with its all-rank count exchange for every ghost update and
-   force return: its counts, measured on 2026-11-30 with commit 65688bb, are
-   kept in FULL_SHELL_PER_STEP).
+   not measurements. Three schemes are tabulated: the current one
+   (half shell; everything point to point with the neighbour ranks, the
+   rebuild's migration and ghost set-up included; its counts measured
+   here), the previous one (half shell, but an all-rank alltoallv for the
+   migration and the ghost set-up at every rebuild: counts measured on
+   2026-12-01 with commit 82a6a25, kept in HALF_SHELL_A2A_PER_STEP) and the
+   one before (full shell, an alltoallv with its all-rank count exchange
+   for every ghost update and force return: counts measured on 2026-11-30
+   with commit 65688bb, kept in FULL_SHELL_PER_STEP).
 Writes bench/results/mpi_weak_model.json and a table on stdout.
 """
 import argparse
@@ -152,6 +159,11 @@ def compute_rate(L, steps, rounds):
 # per step and rank with the previous scheme (full shell, every ghost exchange an
 # alltoallv), measured by this script on 4 ranks on 2026-11-30 (commit 65688bb)
 FULL_SHELL_PER_STEP = dict(alltoallv=2.2, neighbor=0.0, allreduce=3.09, bytes_per_ghost=125.8)
+# per step and rank with the half shell but the rebuild's migration and ghost
+# set-up as all-rank alltoallv: measured by this script on 4 ranks on
+# 2026-12-01 (commit 82a6a25)
+HALF_SHELL_A2A_PER_STEP = dict(alltoallv=0.44, neighbor=1.78, neighbor_var=0.0, allreduce=2.31,
+                               bytes_per_ghost=125.0)
 
 
 def model(P, n_per_rank, R1, kappa, per_step, alpha, beta, half_shell=False, bruck=False):
@@ -169,7 +181,9 @@ def model(P, n_per_rank, R1, kappa, per_step, alpha, beta, half_shell=False, bru
     t_a2a = alpha * (logp if bruck else (P - 1))
     coll = per_step["alltoallv"] * t_a2a + per_step["allreduce"] * 2 * alpha * logp
     msgs = 13 if half_shell else 26
-    data = ((per_step["alltoallv"] + per_step.get("neighbor", 0.0)) * msgs * alpha
+    var = per_step.get("neighbor_var", 0.0)  # variable-size: one message to each of 26
+    fixed = per_step.get("neighbor", 0.0) - var
+    data = ((per_step["alltoallv"] + fixed) * msgs * alpha + var * 26 * alpha
             + per_step["bytes_per_ghost"] * g / beta)
     t = comp + coll + data
     return t, t1 / t, dict(compute=comp, collectives=coll, data=data)
@@ -209,6 +223,9 @@ def main():
                    messages=statistics.mean(x["messages"] for x in st) / nst,
                    bytes=statistics.mean(x["bytes"] for x in st) / nst,
                    rebuilds=recs[0]["rebuilds"] / nst)
+        # the variable-size neighbour exchanges: migration and ghost set-up at each
+        # rebuild when they do not go through the all-rank alltoallv
+        per["neighbor_var"] = 2 * per["rebuilds"] if P > 1 and per["alltoallv"] == 0 else 0.0
         if P > 1:  # bytes per step per remote ghost (other ranks' particles; model count)
             per["bytes_per_ghost"] = per["bytes"] / g_remote
         measured[P] = dict(node_grid=recs[0]["node_grid"], per_step=per, ghosts_mean=g_total / P,
@@ -238,23 +255,27 @@ def main():
                 row = dict(n_per_rank=n_per, beta=beta, P=P, grid=node_grid(P))
                 for name, per, kw in (("full_linear", FULL_SHELL_PER_STEP, {}),
                                       ("full_bruck", FULL_SHELL_PER_STEP, dict(bruck=True)),
-                                      ("half_linear", per_step, dict(half_shell=True)),
-                                      ("half_bruck", per_step, dict(bruck=True, half_shell=True))):
+                                      ("half_a2a_linear", HALF_SHELL_A2A_PER_STEP, dict(half_shell=True)),
+                                      ("half_a2a_bruck", HALF_SHELL_A2A_PER_STEP,
+                                       dict(bruck=True, half_shell=True)),
+                                      ("neighbour", per_step, dict(half_shell=True))):
                     t, E, parts = model(P, n_per, R1, kappa, per, 2e-6, beta, **kw)
                     row[name] = dict(t_step=t, E=E, **parts)
                 table.append(row)
     print("\nweak-scaling efficiency E(P) = t(1)/t(P) (alpha = 2 us)")
-    print(f"{'n/rank':>7} {'beta GB/s':>9} {'P':>5}  before: full shell, linear a2a | full, Bruck"
-          f" | now: half shell, p2p, linear a2a | half, Bruck")
+    print(f"{'n/rank':>7} {'beta GB/s':>9} {'P':>5}  full shell: linear a2a | Bruck"
+          f" | half shell + a2a at rebuilds: linear | Bruck | now: neighbours only")
     for row in table:
         print(f"{row['n_per_rank']:>7} {row['beta'] / 1e9:>9.1f} {row['P']:>5}  "
-              f"{row['full_linear']['E']:>30.2f} | {row['full_bruck']['E']:>11.2f} | "
-              f"{row['half_linear']['E']:>32.2f} | {row['half_bruck']['E']:>11.2f}")
+              f"{row['full_linear']['E']:>22.2f} | {row['full_bruck']['E']:>5.2f} | "
+              f"{row['half_a2a_linear']['E']:>36.2f} | {row['half_a2a_bruck']['E']:>5.2f} | "
+              f"{row['neighbour']['E']:>20.2f}")
     from bench_common import machine_info
     res = dict(machine=machine_info(), L_measured=L, steps=steps, skin=SKIN, r_cut=RCUT,
                measured={str(k): v for k, v in measured.items()}, ghost_checks=checks,
                ghost_model_worst_rel_error=worst, R1=R1, R1_rounds=rates, kappa=kappa,
-               kappa_fits=kappas, alpha=2e-6, full_shell_per_step=FULL_SHELL_PER_STEP, table=table)
+               kappa_fits=kappas, alpha=2e-6, full_shell_per_step=FULL_SHELL_PER_STEP,
+               half_shell_a2a_per_step=HALF_SHELL_A2A_PER_STEP, table=table)
     os.makedirs(a.out, exist_ok=True)
     name = "mpi_weak_model_quick" if a.quick else "mpi_weak_model"
     with open(os.path.join(a.out, name + ".json"), "w") as f:

@@ -43,6 +43,7 @@ void bind_cell_system(py::class_<System> &cls) {
     d["allreduce"] = c.allreduce, d["alltoallv"] = c.alltoallv, d["other"] = c.other;
     d["neighbor"] = c.neighbor;
     d["messages"] = c.messages, d["bytes"] = c.bytes;
+    d["cpu_seconds"] = c.cpu_seconds, d["wall_seconds"] = c.wall_seconds;
     return d;
   });
   cls.def("reset_comm_stats", [](System &s) { s.comm().reset_stats(); });

@@ -184,6 +184,85 @@ def scene_shardlow():
     return s, dict(msg=np.array(msg))
 
 
+def _narrow(box, r_cut, steps=30, seed=3):
+    """A DPD fluid (rho = 3) in a small box with a long cutoff: on several
+    ranks the domains are thinner than the interaction range (cutoff + skin
+    0.4), so a rank's ghosts come from several domains and periodic images."""
+    rng = np.random.default_rng(seed)
+    box = np.array(box, dtype=float)
+    s = marble.System(box_l=list(box))
+    s.time_step = 0.005
+    s.cell_system.skin = 0.4
+    n = int(3 * np.prod(box))
+    s.part.add(pos=rng.random((n, 3)) * box, v=rng.normal(size=(n, 3)))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=r_cut)
+    s.thermostat.set_dpd(kT=1.0, seed=3)
+    s.integrator.run(steps)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                   node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_narrow():
+    """6 x 6 x 4, r_cut 2.3 (range 2.7): on 3 ranks the domains are 2 wide,
+    thinner than the cutoff itself."""
+    return _narrow([6.0, 6.0, 4.0], 2.3)
+
+
+def scene_thin():
+    """6 x 6 x 4, r_cut 1.8: on 3 ranks the domains (2) are wider than the
+    cutoff but thinner than cutoff + skin (2.2)."""
+    return _narrow([6.0, 6.0, 4.0], 1.8)
+
+
+def scene_images():
+    """9 x 2 x 2, r_cut 2.3: the box is thinner than the range along y and z
+    (two periodic images on each side), and on 3 ranks the domains are 3 wide."""
+    return _narrow([9.0, 2.0, 2.0], 2.3)
+
+
+def scene_teleport():
+    """A long box (24 x 4 x 4, on 6 ranks a 6 x 1 x 1 grid: rank 0's neighbours
+    are ranks 1 and 5 only). Mid-run the script moves particles across the box,
+    to ranks that are not neighbours of their owner: the next rebuild must
+    notice it and migrate through the all-rank exchange (counted)."""
+    rng = np.random.default_rng(8)
+    box = np.array([24.0, 4.0, 4.0])
+    s = marble.System(box_l=list(box))
+    s.time_step = 0.01
+    s.cell_system.skin = 0.4
+    n = int(3 * np.prod(box))
+    s.part.add(pos=rng.random((n, 3)) * box, v=rng.normal(size=(n, 3)))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=1.0, seed=3)
+    s.integrator.run(20)
+    core = s._core
+    core.reset_comm_stats()
+    s.integrator.run(20)
+    a2a_run = dict(core.comm_stats())["alltoallv"]
+    for pid, x in ((3, 13.3), (40, 2.2), (77, 21.0)):
+        p = s.part.by_id(pid)
+        p.pos = [x, p.pos[1], p.pos[2]]
+    core.reset_comm_stats()
+    s.integrator.run(20)
+    a2a_teleport = dict(core.comm_stats())["alltoallv"]
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                   node_grid=np.array(s.cell_system.node_grid),
+                   a2a_run=np.array(a2a_run), a2a_teleport=np.array(a2a_teleport))
+
+
+def scene_rank0_read():
+    """The SPMD mistake of doc/parallel.md: a particle read inside
+    `if marble.mpi_rank() == 0:` (rank 0 waits for the other ranks in the
+    gather, which have left the script): the exit handshake must report it
+    and stop every rank (MARBLE_MPI_EXIT_TIMEOUT) instead of hanging."""
+    s, _ = _narrow([4.0, 4.0, 4.0], 1.0, steps=2)
+    if marble.mpi_rank() == 0:
+        return s, dict(pos=s.part.all().pos)
+    return s, {}
+
+
 def scene_temperature():
     """Longer run: observables agree statistically across rank counts."""
     s = fluid(6.0, seed=9)

@@ -112,6 +112,50 @@ int axis_coord(double x, double dl, int p) {
 }
 } // namespace
 
+// The neighbour ranks: q is one if along every axis some periodic image of
+// q's domain (none along an open axis) is adjacent to this rank's domain or
+// at most @p radius from it: the node-coordinate offset k = |q + n grid - me|
+// (n images) has k <= 1 or (k - 1) dl <= radius. The test uses only integer
+// offsets and dl, so it is symmetric bit for bit: q lists me iff I list q.
+// Every ghost of make_ghosts (images within max range of the domain) goes to
+// a neighbour when radius >= that range; a migrating particle usually does
+// (migrate checks and falls back to the all-rank exchange otherwise).
+void CellSystem::update_neighbour_ranks(BoxGeometry const &box, double radius) {
+  auto const g = node_grid(box);
+  auto const &L = box.length();
+  int const size = m_comm->size(), me = m_comm->rank();
+  std::array<double, 8> const key{L[0], L[1], L[2], static_cast<double>(size),
+                                  static_cast<double>(me), radius,
+                                  static_cast<double>(box.periodic(0) + 2 * box.periodic(1) + 4 * box.periodic(2)),
+                                  0.};
+  if (key == m_nbr_key && !m_is_nbr.empty())
+    return;
+  m_nbr_key = key;
+  auto const c = coords_of(g, me);
+  std::array<std::vector<char>, 3> near;
+  for (int d = 0; d < 3; ++d) {
+    double const dl = L[d] / g[d];
+    double const lim = radius * (1. + 1e-6) + 1e-9 * L[d];
+    int const nimg = box.periodic(d) ? static_cast<int>(std::ceil(radius / L[d])) + 1 : 0;
+    near[d].assign(static_cast<std::size_t>(g[d]), 0);
+    for (int qd = 0; qd < g[d]; ++qd)
+      for (int n = -nimg; n <= nimg; ++n) {
+        int const k = std::abs(qd + n * g[d] - c[d]);
+        if (k <= 1 || (k - 1) * dl <= lim)
+          near[d][qd] = 1;
+      }
+  }
+  m_nbrs.clear();
+  m_is_nbr.assign(static_cast<std::size_t>(size), 0);
+  for (int q = 0; q < size; ++q) {
+    auto const qc = coords_of(g, q);
+    if (q != me && near[0][qc[0]] && near[1][qc[1]] && near[2][qc[2]]) {
+      m_nbrs.push_back(q);
+      m_is_nbr[q] = 1;
+    }
+  }
+}
+
 int CellSystem::rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords) {
   return rank_of(grid, coords);
 }
@@ -157,13 +201,18 @@ struct GhostForce {
 
 // Send every local whose folded position lies in another rank's domain to
 // that rank (with its force and torque of the last step, which the next half
-// kick uses).
+// kick uses). During a run a particle moves at most ~1.5 skins between two
+// rebuilds, so it goes to a neighbour rank: then one point-to-point message
+// to each neighbour (sizes probed). One reduction decides it: if any rank
+// has a particle for a rank that is not its neighbour (the user moved it,
+// a checkpoint was loaded, ...) all ranks take the all-rank alltoallv.
 void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
   int const size = m_comm->size(), me = m_comm->rank();
   auto const g = node_grid(box);
   auto const &L = box.length();
   std::vector<std::vector<MigrationRecord>> send(size);
   std::vector<int> leaving;
+  bool far = false;
   for (int i = 0; i < ps.n_local(); ++i) {
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
@@ -179,10 +228,11 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
 #endif
     send[r].push_back(rec);
     leaving.push_back(ps.id[i]);
+    far |= !m_is_nbr[r];
   }
   for (int pid : leaving)
     ps.remove(pid);
-  auto const recv = m_comm->alltoallv(send);
+  auto const recv = m_comm->any(far) ? m_comm->alltoallv(send) : m_comm->neighbor_exchange_var(m_nbrs, send);
   for (auto const &from : recv)
     for (auto const &rec : from) {
       ps.add(rec.p);
@@ -344,7 +394,18 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
     for (auto const &e : m_send[q])
       send[q].push_back(ps.ghost_record(e.index, e.shift));
   }
-  auto const recv = m_comm->alltoallv(send);
+  // Colloid copies go to every rank: then the all-rank alltoallv. Otherwise
+  // every ghost goes to a neighbour rank (images within r_max of this
+  // domain): one message to each (sizes probed), no all-rank call.
+  bool const any_replicated =
+      std::any_of(m_replicated.begin(), m_replicated.end(), [](char c) { return c != 0; });
+#ifndef NDEBUG
+  for (int q = 0; q < size; ++q)
+    if (!any_replicated && !m_send[q].empty() && !m_is_nbr[q])
+      throw Utils::RuntimeError("internal error: a ghost for rank " + std::to_string(q) +
+                                ", which is not a neighbour of rank " + std::to_string(me));
+#endif
+  auto const recv = any_replicated ? m_comm->alltoallv(send) : m_comm->neighbor_exchange_var(m_nbrs, send);
   for (int q = 0; q < size; ++q) {
     m_recv_begin[q] = ps.size();
     m_recv_count[q] = static_cast<int>(recv[q].size());
@@ -799,8 +860,12 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
   m_range = range;
   for (int i = 0; i < ps.n_local(); ++i)
     box.fold(ps.pos[i], ps.image[i]);
-  if (parallel())
+  if (parallel()) {
+    // neighbours: within the ghost range (every ghost goes to one) and 1.5
+    // skins (every particle moved by a run between two rebuilds stays among them)
+    update_neighbour_ranks(box, std::max({m_range, m_range_ll, m_range_ls, 1.5 * m_skin}));
     migrate(ps, box);
+  }
   sort_locals(ps, box);
   for (int i = 0; i < ps.n_local(); ++i)
     ps.pos_at_rebuild[i] = ps.pos[i];

@@ -22,7 +22,10 @@
 // particle are kept on the rank owning the smaller id. The force on a ghost
 // (and the force/torque on a colloid copy) is sent back to its owner by
 // reduce_ghost_forces(); ghost updates and force returns go point to point
-// to the neighbour ranks only. docs: doc/parallel.md.
+// to the neighbour ranks only, and so do the migration and the ghost set-up
+// at a rebuild (sizes probed; the all-rank alltoallv only for a particle
+// bound for a rank that is not a neighbour, or for colloid copies).
+// docs: doc/parallel.md.
 //
 // Large-range types (colloids of a suspension, doc/architecture.md "Two cell
 // grids"): set_large_range() names types whose pairs reach much farther than
@@ -233,6 +236,7 @@ private:
   template <typename T, typename Pack, typename Unpack>
   void from_remote_ghosts(Pack &&pack, Unpack &&unpack) const;
   void migrate(ParticleStore &ps, BoxGeometry const &box) const;
+  void update_neighbour_ranks(BoxGeometry const &box, double radius);
   bool replicated(int type) const {
     return type >= 0 && type < static_cast<int>(m_replicated.size()) && m_replicated[type];
   }
@@ -267,6 +271,12 @@ private:
   // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
   std::vector<std::vector<SendEntry>> m_send;
   std::vector<int> m_recv_begin, m_recv_count;
+  // the other ranks whose domain (or a periodic image of it) lies within the
+  // neighbour radius of this rank's domain along every axis, sorted; symmetric.
+  // Migration and the ghost set-up at a rebuild talk to these only.
+  std::vector<int> m_nbrs;
+  std::vector<char> m_is_nbr;               // by rank
+  std::array<double, 8> m_nbr_key{};        // box, grid size, radius of m_nbrs
   mutable std::vector<std::vector<char>> m_xsend, m_xrecv; // neighbour-exchange buffers, kept
 };
 

@@ -3,14 +3,21 @@
 #include "utils/errors.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <numeric>
+#include <thread>
+#include <time.h>
 
 namespace Marble {
 
 #ifdef MARBLE_HAVE_MPI
 namespace {
 bool g_we_initialised = false;
+// A duplicate of MPI_COMM_WORLD used only for the exit handshake below (so it
+// never matches a collective call of marble on MPI_COMM_WORLD).
+MPI_Comm g_exit_comm = MPI_COMM_NULL;
 bool mpi_ready() {
   int init = 0, fin = 0;
   MPI_Initialized(&init);
@@ -26,12 +33,78 @@ void mpi_init_once() {
     int provided = 0;
     MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     g_we_initialised = true;
+    MPI_Comm_dup(MPI_COMM_WORLD, &g_exit_comm);
   }
 }
 
+namespace {
+/** Exit handshake: a rank that reached the end of the script waits (on its
+ * own communicator, polling) until every rank has. If some rank is still
+ * inside a collective marble call after 10 s, the usual cause is a call made
+ * on some ranks only (a particle read inside `if marble.mpi_rank() == 0:`),
+ * which would otherwise hang in MPI_Finalize without a word: say so on
+ * stderr, and after MARBLE_MPI_EXIT_TIMEOUT seconds (default 600; 0: wait
+ * forever) stop all ranks with MPI_Abort. */
+void exit_handshake() {
+  int size = 1, rank = 0;
+  MPI_Comm_size(g_exit_comm, &size);
+  MPI_Comm_rank(g_exit_comm, &rank);
+  if (size == 1)
+    return;
+  double timeout = 600.;
+  if (char const *e = std::getenv("MARBLE_MPI_EXIT_TIMEOUT")) {
+    char *end = nullptr;
+    double const t = std::strtod(e, &end);
+    if (end != e && t >= 0.)
+      timeout = t;
+  }
+  double const warn_after = timeout > 0. ? std::min(10., 0.5 * timeout) : 10.;
+  MPI_Request req;
+  MPI_Ibarrier(g_exit_comm, &req);
+  auto const t0 = std::chrono::steady_clock::now();
+  bool warned = false;
+  for (;;) {
+    int done = 0;
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done)
+      return;
+    double const waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!warned && waited >= warn_after) {
+      warned = true;
+      std::fprintf(stderr,
+                   "marble: rank %d reached the end of the script %.0f s ago, but another rank "
+                   "has not: it is probably waiting in a collective marble call that this rank "
+                   "never made (a particle read such as p.pos, an observable or analysis call "
+                   "inside `if marble.mpi_rank() == 0:`; do the reads on every rank, then write "
+                   "on rank 0 only: doc/parallel.md)%s\n",
+                   rank, waited,
+                   timeout > 0. ? "; all ranks stop after MARBLE_MPI_EXIT_TIMEOUT seconds" : "");
+      std::fflush(stderr);
+    }
+    if (timeout > 0. && waited >= timeout) {
+      std::fprintf(stderr,
+                   "marble: rank %d stops all ranks: the other ranks did not reach the end of the "
+                   "script within MARBLE_MPI_EXIT_TIMEOUT = %g s (see the message above)\n",
+                   rank, timeout);
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (waited < 1.)
+      std::this_thread::yield();
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+} // namespace
+
 void mpi_finalize_once() {
-  if (g_we_initialised && mpi_ready())
+  if (g_we_initialised && mpi_ready()) {
+    if (g_exit_comm != MPI_COMM_NULL) {
+      exit_handshake();
+      MPI_Comm_free(&g_exit_comm);
+    }
     MPI_Finalize();
+  }
   g_we_initialised = false;
 }
 
@@ -50,41 +123,65 @@ Communicator::Communicator() {
 }
 
 namespace {
+/** Adds the thread CPU time and the wall time of its scope to the counters
+ * (bench/mpi_scaling.py: the time a rank spends in communication and waits). */
+class CommTimer {
+public:
+  explicit CommTimer(CommStats &s) : m_s(s), m_c0(cpu_now()), m_w0(MPI_Wtime()) {}
+  ~CommTimer() {
+    m_s.cpu_seconds += cpu_now() - m_c0;
+    m_s.wall_seconds += MPI_Wtime() - m_w0;
+  }
+  CommTimer(CommTimer const &) = delete;
+  CommTimer &operator=(CommTimer const &) = delete;
+
+private:
+  static double cpu_now() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  CommStats &m_s;
+  double m_c0, m_w0;
+};
+
 template <typename T> MPI_Datatype mpi_type();
 template <> MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
 template <> MPI_Datatype mpi_type<long long>() { return MPI_LONG_LONG; }
 template <> MPI_Datatype mpi_type<int>() { return MPI_INT; }
 
 // In-place allreduce of n values (nothing to do on one rank).
-template <typename T> void allreduce(long long &count, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
+template <typename T> void allreduce(CommStats &st, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
   if (size > 1 && n > 0) {
-    ++count;
+    ++st.allreduce;
+    CommTimer const timer(st);
     MPI_Allreduce(MPI_IN_PLACE, x, n, mpi_type<T>(), op, comm);
   }
 }
 } // namespace
 
-void Communicator::sum_inplace(double *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
-void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_stats.allreduce, m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(double *x, int n) const { allreduce(m_stats, m_comm, m_size, x, n, MPI_SUM); }
+void Communicator::sum_inplace(long long *x, int n) const { allreduce(m_stats, m_comm, m_size, x, n, MPI_SUM); }
 double Communicator::max(double x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 double Communicator::min(double x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 int Communicator::max(int x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MAX);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
 int Communicator::min(int x) const {
-  allreduce(m_stats.allreduce, m_comm, m_size, &x, 1, MPI_MIN);
+  allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
 }
 void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {
   if (m_size > 1 && n > 0) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, m_comm);
   }
 }
@@ -107,6 +204,7 @@ std::vector<int> Communicator::allgather(int x) const {
   std::vector<int> out(m_size, x);
   if (m_size > 1) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Allgather(&x, 1, MPI_INT, out.data(), 1, MPI_INT, m_comm);
   }
   return out;
@@ -119,6 +217,7 @@ std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local)
   for (int r = 1; r < m_size; ++r)
     displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<char> out(static_cast<std::size_t>(displs.back() + counts.back()));
+  CommTimer const timer(m_stats);
   MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_BYTE, out.data(), counts.data(),
                  displs.data(), MPI_BYTE, m_comm);
   return out;
@@ -129,6 +228,7 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
     return {send.empty() ? std::vector<char>{} : send[0]};
   std::vector<int> sc(m_size, 0), rc(m_size, 0), sd(m_size, 0), rd(m_size, 0);
   ++m_stats.alltoallv;
+  CommTimer const timer(m_stats);
   for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r) {
     sc[r] = static_cast<int>(send[r].size());
     if (r != m_rank && sc[r] > 0) {
@@ -157,6 +257,7 @@ void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const 
   if (m_size == 1)
     return;
   ++m_stats.neighbor;
+  CommTimer const timer(m_stats);
   // one tag for all: the blocks between two ranks arrive in the order sent
   // (MPI's non-overtaking rule), and each call completes before the next
   constexpr int kTag = 7301;
@@ -177,9 +278,41 @@ void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const 
   if (!req.empty())
     MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
 }
+void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
+                                               std::vector<std::vector<char>> const &send,
+                                               std::vector<std::vector<char>> &recv) const {
+  if (m_size == 1)
+    return;
+  ++m_stats.neighbor;
+  CommTimer const timer(m_stats);
+  // its own tag: never matched by the fixed-size exchange's receives; blocks
+  // between two ranks arrive in the order sent (non-overtaking)
+  constexpr int kTag = 7302;
+  recv.resize(static_cast<std::size_t>(m_size));
+  std::vector<MPI_Request> req(nbrs.size());
+  for (std::size_t k = 0; k < nbrs.size(); ++k) {
+    int const q = nbrs[k];
+    auto const &b = send[static_cast<std::size_t>(q)];
+    ++m_stats.messages;
+    m_stats.bytes += static_cast<long long>(b.size());
+    MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_BYTE, q, kTag, m_comm, &req[k]);
+  }
+  for (int q : nbrs) {
+    MPI_Status st;
+    MPI_Probe(q, kTag, m_comm, &st);
+    int n = 0;
+    MPI_Get_count(&st, MPI_BYTE, &n);
+    auto &b = recv[static_cast<std::size_t>(q)];
+    b.resize(static_cast<std::size_t>(n));
+    MPI_Recv(b.data(), n, MPI_BYTE, q, kTag, m_comm, MPI_STATUS_IGNORE);
+  }
+  if (!req.empty())
+    MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+}
 void Communicator::barrier() const {
   if (m_size > 1) {
     ++m_stats.other;
+    CommTimer const timer(m_stats);
     MPI_Barrier(m_comm);
   }
 }
@@ -220,6 +353,9 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
 }
 void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const &,
                                            std::vector<std::vector<char>> &) const {}
+void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &,
+                                               std::vector<std::vector<char>> const &,
+                                               std::vector<std::vector<char>> &) const {}
 void Communicator::barrier() const {}
 void Communicator::throw_if_any(std::string const &local_error) const {
   if (!local_error.empty())

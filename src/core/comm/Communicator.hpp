@@ -23,10 +23,12 @@ namespace Marble {
 struct CommStats {
   long long allreduce = 0;  ///< reductions (sum/max/min) on more than one rank
   long long alltoallv = 0;  ///< alltoallv exchanges (each: one MPI_Alltoall of counts + one MPI_Alltoallv)
-  long long neighbor = 0;   ///< neighbour exchanges (point-to-point, sizes known: no count exchange)
+  long long neighbor = 0;   ///< neighbour exchanges (point-to-point: fixed sizes, or sizes probed)
   long long other = 0;      ///< broadcasts, allgathers, barriers
-  long long messages = 0;   ///< non-empty blocks sent to other ranks (alltoallv and neighbour exchanges)
+  long long messages = 0;   ///< messages sent to other ranks (non-empty alltoallv blocks, neighbour messages)
   long long bytes = 0;      ///< bytes of those blocks
+  double cpu_seconds = 0.;  ///< this thread's CPU time inside those MPI calls (waits poll: CPU)
+  double wall_seconds = 0.; ///< wall time inside those MPI calls
 };
 
 class Communicator {
@@ -110,6 +112,36 @@ public:
    * part. Every rank of the group must call it (an empty call is free). */
   void neighbor_exchange_bytes(std::vector<std::vector<char>> const &send,
                                std::vector<std::vector<char>> &recv) const;
+  /** Neighbour exchange of blocks of any size with the ranks @p nbrs (which
+   * must be symmetric: q lists this rank iff this rank lists q): @p send[q]
+   * goes to each q of @p nbrs (one message each, also when empty) and
+   * @p recv[q] is resized and filled from each; the sizes travel with the
+   * messages (MPI_Probe), so there is no count exchange and no all-rank call.
+   * Every rank of the group must call it. */
+  void neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
+                                   std::vector<std::vector<char>> const &send,
+                                   std::vector<std::vector<char>> &recv) const;
+  /** Typed form of neighbor_exchange_var_bytes: returns the blocks by source rank. */
+  template <typename T>
+  std::vector<std::vector<T>> neighbor_exchange_var(std::vector<int> const &nbrs,
+                                                    std::vector<std::vector<T>> const &send) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<std::vector<char>> sb(send.size()), rb(send.size());
+    for (int q : nbrs) {
+      auto const &b = send[static_cast<std::size_t>(q)];
+      sb[q].resize(b.size() * sizeof(T));
+      if (!b.empty())
+        std::memcpy(sb[q].data(), b.data(), sb[q].size());
+    }
+    neighbor_exchange_var_bytes(nbrs, sb, rb);
+    std::vector<std::vector<T>> out(send.size());
+    for (int q : nbrs) {
+      out[q].resize(rb[q].size() / sizeof(T));
+      if (!out[q].empty())
+        std::memcpy(out[q].data(), rb[q].data(), out[q].size() * sizeof(T));
+    }
+    return out;
+  }
   std::vector<char> allgatherv_bytes(std::vector<char> const &local) const;
   std::vector<std::vector<char>> alltoallv_bytes(std::vector<std::vector<char>> const &send) const;
   void barrier() const;
