@@ -36,10 +36,6 @@ Vector3d cross(Vector3d const &a, Vector3d const &b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-// Rodrigues: rotate w by angle (cos c, sin s) about the unit axis n.
-Vector3d rotate(Vector3d const &w, Vector3d const &n, double c, double s) {
-  return c * w + s * cross(n, w) + ((1. - c) * (n * w)) * n;
-}
 
 // Solve the symmetric 3x3 system A x = b (Cramer); false if singular.
 bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
@@ -240,11 +236,32 @@ void Fluid::collide(System &s) {
   // counting sort of the particles into the shifted cells (local grid)
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
-  for (int i = 0; i < n; ++i) {
-    int const g = (cell_coord(pos[i][0], 0) * ldim[1] + cell_coord(pos[i][1], 1)) * ldim[2] +
-                  cell_coord(pos[i][2], 2);
-    m_cell[i] = g;
-    ++m_count[g + 1];
+  if (ax[0].mode == 0 && ax[1].mode == 0 && ax[2].mode == 0) { // the whole periodic box (one rank)
+    auto coord = [&](double x, int d) {
+      double const t = (x - shift[d]) * inv_a0;
+      int k = static_cast<int>(t);
+      k -= t < static_cast<double>(k);
+      int const nd = m_grid[d];
+      k += k < 0 ? nd : (k >= nd ? -nd : 0);
+      if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
+        k %= nd;
+        k = k < 0 ? k + nd : k;
+      }
+      return k;
+    };
+    int *__restrict cl = m_cell.data(), *__restrict cnt = m_count.data();
+    for (int i = 0; i < n; ++i) {
+      int const g = (coord(pos[i][0], 0) * ldim[1] + coord(pos[i][1], 1)) * ldim[2] + coord(pos[i][2], 2);
+      cl[i] = g;
+      ++cnt[g + 1];
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      int const g = (cell_coord(pos[i][0], 0) * ldim[1] + cell_coord(pos[i][1], 1)) * ldim[2] +
+                    cell_coord(pos[i][2], 2);
+      m_cell[i] = g;
+      ++m_count[g + 1];
+    }
   }
   if (bad_cell)
     throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(comm.rank()) +
@@ -256,16 +273,15 @@ void Fluid::collide(System &s) {
   // scatter the arrays into cell order (stable: ascending old index within a
   // cell; sequential reads; contiguous cells, streaming stays sequential)
   m_p2.resize(n), m_v2.resize(n), m_id2.resize(n), m_t2.resize(n);
-  // (and the range of the exact cell sums below: the largest |v component|;
-  // a NaN fails every comparison)
-  double v_big = 0.;
-  bool v_ok = true;
-  for (int i = 0; i < n; ++i) {
-    int const k = m_start[m_cell[i]]++;
-    m_p2[k] = pos[i], m_v2[k] = v[i], m_id2[k] = id[i], m_t2[k] = type[i];
-    double const ax = std::abs(v[i][0]), ay = std::abs(v[i][1]), az = std::abs(v[i][2]);
-    v_big = std::max(v_big, std::max(ax, std::max(ay, az)));
-    v_ok &= (ax < kTermLimit) & (ay < kTermLimit) & (az < kTermLimit);
+  {
+    Vector3d const *__restrict p0 = pos.data(), *__restrict v0 = v.data();
+    int const *__restrict i0 = id.data(), *__restrict t0 = type.data(), *__restrict cl = m_cell.data();
+    Vector3d *__restrict p1 = m_p2.data(), *__restrict v1 = m_v2.data();
+    int *__restrict i1 = m_id2.data(), *__restrict t1 = m_t2.data(), *__restrict st = m_start.data();
+    for (int i = 0; i < n; ++i) {
+      int const k = st[cl[i]]++;
+      p1[k] = p0[i], v1[k] = v0[i], i1[k] = i0[i], t1[k] = t0[i];
+    }
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
 
@@ -390,12 +406,26 @@ void Fluid::collide(System &s) {
 
   // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
   bool too_fast = false; // a term beyond the range of the exact sums
-  double vmax = 0.;       // largest |v component| of this rank (one-limb velocity sums)
+  // the largest |v component| of particles [b, e); false if one is not
+  // below 2^20 (or not finite: a NaN fails every comparison)
+  auto v_range = [&](int b, int e, double &big) {
+    big = 0.;
+    bool ok = true;
+    for (int i = b; i < e; ++i)
+      for (int d = 0; d < 3; ++d) {
+        double const x = std::abs(v[i][d]);
+        big = std::max(big, x);
+        ok &= x < kTermLimit;
+      }
+    too_fast |= !ok;
+    return ok;
+  };
   auto sums_A = [&](int b, int e, double *A, bool shared_cell) {
     std::fill(A, A + (ang ? nA : at ? 13 : 7), 0.);
     A[0] = e - b;
-    // |v| < 2^20: checked in one sweep before the cell loop (vmax)
-    if (!shared_cell && vmax < 64. && (e - b) * vmax < 256.) {
+    double vmax; // one limb where the sums stay below 2^53 (decided per cell: the same value either way)
+    bool const ok = v_range(b, e, vmax);
+    if (!shared_cell && ok && vmax < 64. && (e - b) * vmax < 256.) {
       double s0 = 0., s1 = 0., s2 = 0.; // one limb: round(v 2^45), exact sums below 2^53
       for (int i = b; i < e; ++i) {
         s0 += (v[i][0] * 35184372088832. + kMagic) - kMagic;
@@ -447,8 +477,18 @@ void Fluid::collide(System &s) {
     if (thermo || ang)
       std::fill(B, B + nB, 0.);
     if (!at) {
-      for (int i = b; i < e; ++i)
-        v[i] = m.u + rotate(v[i] - m.u, axis, ca, sa);
+      // Rodrigues' rotation by alpha about the axis n as a matrix:
+      // R w = c w + s (n x w) + (1 - c)(n.w) n
+      double const k = 1. - ca;
+      double const nx = axis[0], ny = axis[1], nz = axis[2];
+      double const R[3][3] = {{ca + k * nx * nx, k * nx * ny - sa * nz, k * nx * nz + sa * ny},
+                              {k * ny * nx + sa * nz, ca + k * ny * ny, k * ny * nz - sa * nx},
+                              {k * nz * nx - sa * ny, k * nz * ny + sa * nx, ca + k * nz * nz}};
+      for (int i = b; i < e; ++i) {
+        Vector3d const w = v[i] - m.u;
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = m.u[d] + (R[d][0] * w[0] + R[d][1] * w[1] + R[d][2] * w[2]);
+      }
       if (thermo) {
         double big = 0.;
         for (int i = b; i < e; ++i) {
@@ -521,8 +561,6 @@ void Fluid::collide(System &s) {
     }
   };
 
-  too_fast |= !v_ok;
-  vmax = v_ok ? v_big : INFINITY; // INFINITY: two limbs (the collision stops anyway)
   // local cells: everything at once; shared cells: their A sums collected
   std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
   double A[nA], B[nB];
@@ -561,6 +599,8 @@ void Fluid::collide(System &s) {
         continue;
       }
       if (e - b < 2) { // one particle: nothing to exchange
+        double big;
+        v_range(b, e, big);
         speed2(b, e);
         continue;
       }
