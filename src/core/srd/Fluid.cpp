@@ -482,6 +482,14 @@ void Fluid::stream(System &s, double dt) {
       any |= r > 0.;
     events = any; // the same on every rank (the colloids are gathered)
   }
+  std::vector<char> narrow(cols.size(), 0), all_pair(cols.size(), 1);
+  std::vector<std::vector<int>> cand_of(cols.size()); // this rank's candidates of colloid j
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    for (int t = 0; t < nt; ++t) {
+      auto const &b = bnd(cols[j].type, t);
+      if (b.active && b.coupling != Coupling::pair)
+        all_pair[j] = 0;
+    }
   if (events) {
     double const margin = 0.1 * m_p.cell_size;
     std::vector<Vector3d> R0(cols.size());
@@ -548,6 +556,7 @@ void Fluid::stream(System &s, double dt) {
       Vector3d D{}, V, W; // displacement at time tc, velocity, angular velocity
       double tc = 0.;
       int ver = 0;
+      double dv = 0.; // largest |V - V(0)| within the step
       std::vector<int> pairs;
     };
     std::vector<PState> P;
@@ -626,6 +635,7 @@ void Fluid::stream(System &s, double dt) {
       auto const bo = pair_rule(b, m, col.M, col.I, cs.V, cs.W, nrm, p.v, kT, m_p.seed, step,
                                 static_cast<std::uint64_t>(c.pid), key0(p.nb), key1(p.nb));
       cs.V += bo.J / col.M;
+      cs.dv = std::max(cs.dv, (cs.V - col.V).norm());
       if (col.I > 0.)
         cs.W += cross(arm, bo.J) / col.I;
       dP[e.j] += bo.J;
@@ -644,7 +654,16 @@ void Fluid::stream(System &s, double dt) {
       dR[j] = cs.D - dt * cols[j].V; // exactly 0 without bounces
       cols[j].R += dR[j];
       cols[j].V = cs.V, cols[j].W = cs.W;
+      // A particle that was no candidate of colloid j came no closer than
+      // radius + margin to R0 + V(0) t; the colloid's path deviates from that
+      // by at most dt max|V - V(0)|: below margin/2, no such particle can end
+      // inside it, and the end-of-step check of j needs only its candidates
+      // (and the bounced particles, checked against every colloid anyway)
+      narrow[j] = all_pair[j] && dt * cs.dv < 0.5 * margin;
     }
+    for (std::size_t k = 0; k < cand.size(); ++k)
+      if (cand[k].rank == me && narrow[cand[k].j])
+        cand_of[cand[k].j].push_back(cand[k].index);
     for (auto const &p : P) {
       if (p.nb == 0)
         continue;
@@ -704,7 +723,10 @@ void Fluid::stream(System &s, double dt) {
     std::vector<int> cand;
     for (std::size_t j = 0; j < cols.size(); ++j) {
       cand.clear();
-      near(cols[j].R, r_search, L, cand);
+      if (narrow[j])
+        cand = cand_of[j];
+      else
+        near(cols[j].R, r_search, L, cand);
       for (int i : cand)
         if (m_hit[i] != stamp && inside(i, j))
           m_hit[i] = stamp;
