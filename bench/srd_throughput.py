@@ -5,6 +5,10 @@ thermostat), Marble side by side with LAMMPS `fix srd` (Debian package
 medians; plus the cost of one stick colloid (a = 2) per MD step in Marble
 (the extra time of a run with --colloids of them, default 8, per colloid).
 Writes bench/results/srd_throughput.json (doc/srd.md quotes it).
+With --baseline DIR (a directory holding another build's `marble` package,
+e.g. a copy of an older build's build/src/python) the same pure-fluid run of
+that build is timed in each round too (its own process), for the gain of this
+build measured in the same conditions (median of the per-round ratios).
 With --ranks 1 2 it measures instead the wall-clock rate of the same fluid on
 1 and 2 MPI ranks (each run its own `mpiexec -n R`, interleaved rounds,
 medians; speed-up = median of the per-round ratios), written to
@@ -12,6 +16,7 @@ bench/results/srd_throughput_ranks.json.
 
     build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
     build/pymarble bench/srd_throughput.py --ranks 1 2 --sizes 320000 --rounds 5
+    build/pymarble bench/srd_throughput.py --sizes 320000 --rounds 7 --baseline /tmp/prev/python
 """
 import argparse
 import json
@@ -38,7 +43,10 @@ p.add_argument("--colloids", type=int, default=8,
                help="stick colloids (a = 2) of the colloid run; the cost of one is the extra time / this")
 p.add_argument("--ranks", type=int, nargs="+", default=None,
                help="wall-clock scaling over these MPI rank counts instead of the LAMMPS comparison")
+p.add_argument("--baseline", default=None,
+               help="directory with another build's marble package: timed in every round as well")
 p.add_argument("--worker", nargs=2, type=float, default=None, help=argparse.SUPPRESS)
+p.add_argument("--cpu-worker", nargs=2, type=float, default=None, help=argparse.SUPPRESS)
 args = p.parse_args()
 
 
@@ -145,6 +153,22 @@ def ranks_rate(N, steps, ranks):
     return int(m.group(2)) * steps / float(m.group(1))
 
 
+def baseline_rate(N, steps):
+    """The pure-fluid rate of the build in args.baseline (its own process)."""
+    env = dict(os.environ, PYTHONPATH=os.path.abspath(args.baseline), OMP_NUM_THREADS="1")
+    cmd = [sys.executable, os.path.abspath(__file__), "--cpu-worker", str(N), str(steps)]
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env,
+                         cwd=os.path.dirname(os.path.abspath(__file__)))
+    m = re.search(r"RATE ([0-9.eE+-]+)", out.stdout)
+    if not m:
+        raise RuntimeError("baseline run failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
+    return float(m.group(1))
+
+
+if args.cpu_worker:
+    print(f"RATE {marble_rate(int(args.cpu_worker[0]), int(args.cpu_worker[1]))[0]!r}", flush=True)
+    sys.exit(0)
+
 if args.worker:
     worker(int(args.worker[0]), int(args.worker[1]))
     sys.exit(0)
@@ -180,8 +204,10 @@ have_lmp = not args.no_lammps and ensure_lammps()
 for N in args.sizes:
     N = int(N)
     steps = max(5, int(args.work / N))
-    m, lm, mc = [], [], []
+    m, lm, mc, bl = [], [], [], []
     for r in range(args.rounds):
+        if args.baseline:
+            bl.append(baseline_rate(N, steps))
         rate, t_pure = marble_rate(N, steps)
         m.append(rate)
         if have_lmp:
@@ -193,10 +219,19 @@ for N in args.sizes:
                lammps=float(np.median(lm)) if lm else None, lammps_all=lm,
                colloid_extra_s_per_step=float(np.median(mc)), colloid_extra_all=mc,
                n_colloids=args.colloids)
+    if lm:
+        row["ratio_per_round"] = [a / b for a, b in zip(m, lm)]
+        row["ratio_median_of_rounds"] = float(np.median(row["ratio_per_round"]))
+    if bl:
+        row["baseline"] = float(np.median(bl))
+        row["baseline_all"] = bl
+        row["gain_median_of_rounds"] = float(np.median(np.array(m) / np.array(bl)))
     res["sizes"].append(row)
     print(f"N = {N}: Marble {row['marble']:.3g} / CPU-s"
-          + (f", LAMMPS {row['lammps']:.3g} / CPU-s, ratio {row['marble'] / row['lammps']:.2f}"
-             if lm else "")
+          + (f", LAMMPS {row['lammps']:.3g} / CPU-s (rounds {min(lm):.3g}-{max(lm):.3g}), ratio "
+             f"{row['marble'] / row['lammps']:.2f} (median of per-round ratios {row['ratio_median_of_rounds']:.2f}, "
+             f"{min(row['ratio_per_round']):.2f}-{max(row['ratio_per_round']):.2f})" if lm else "")
+          + (f", baseline {row['baseline']:.3g}, gain x{row['gain_median_of_rounds']:.2f}" if bl else "")
           + f"; one a = 2 colloid: +{1e3 * row['colloid_extra_s_per_step']:.3f} ms/step", flush=True)
 os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
 with open(os.path.join(HERE, "results", "srd_throughput.json"), "w") as f:

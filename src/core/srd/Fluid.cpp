@@ -52,6 +52,20 @@ static_assert(std::is_trivially_copyable_v<Hit>);
 // Rule `rough`: the fraction of the relative tangential velocity kept, 1 - 2K
 // with K = chi/(1 + chi), chi = 2/5 (a uniform sphere).
 constexpr double kRoughKeep = 1. - 2. * (0.4 / 1.4);
+// Minimum image of a - b for positions folded into [0, L): one conditional
+// wrap per axis (the general rounding only for a pair not folded).
+Vector3d mi_folded(Vector3d const &a, Vector3d const &b, Vector3d const &L) {
+  Vector3d d = a - b;
+  for (int k = 0; k < 3; ++k) {
+    double const h = 0.5 * L[k];
+    double x = d[k];
+    x = x > h ? x - L[k] : (x < -h ? x + L[k] : x);
+    if (!(std::abs(x) <= h)) [[unlikely]]
+      x -= L[k] * std::round(x / L[k]);
+    d[k] = x;
+  }
+  return d;
+}
 // A particle inside by no more than round-off (an event bounce at the end of
 // a step leaves it on the surface) is not "inside".
 bool deep_inside(double d2, double r) { return d2 < r * r * (1. - 1e-12); }
@@ -136,12 +150,14 @@ std::vector<ColloidRef> colloids_of(System const &s, Fluid const &f) {
 
 void Fluid::near(Vector3d R, double r, Vector3d const &L, std::vector<int> &out) const {
   // a particle now within r of R sat, at the last collision's sort, in a
-  // cell within r + m_disp of R (cells of this rank's local grid, collide.cpp)
+  // cell within r + m_disp of R (cells of this rank's local grid, collide.cpp):
+  // the cells whose box comes that close (a sphere of cells, not the cube)
   fold(R, L);
   double const rr = r + m_disp + 1e-9 * L[0];
-  double const inv_a0 = 1. / m_p.cell_size;
+  double const a0 = m_p.cell_size, inv_a0 = 1. / a0;
   auto const &gd = m_index_dim;
-  std::array<std::vector<int>, 3> ks;
+  // per axis: (local cell coordinate, squared distance of its slab from R)
+  std::array<std::vector<std::pair<int, double>>, 3> ks;
   for (int d = 0; d < 3; ++d) {
     auto const &ax = m_index_axes[d];
     int const k0 = static_cast<int>(std::floor((R[d] - rr - m_index_shift[d]) * inv_a0));
@@ -150,30 +166,40 @@ void Fluid::near(Vector3d R, double r, Vector3d const &L, std::vector<int> &out)
     bool const all = k1 - k0 + 1 >= nk || (ax.mode == 2 && (k0 < 0 || k1 >= nk));
     if (all) {
       for (int k = 0; k < gd[d]; ++k)
-        ks[d].push_back(k);
+        ks[d].emplace_back(k, 0.);
       continue;
     }
     for (int k = k0; k <= k1; ++k) {
+      double const lo = m_index_shift[d] + k * a0, hi = lo + a0;
+      double const x = std::max(0., std::max(lo - R[d], R[d] - hi));
+      double const x2 = x * x;
       if (ax.mode == 0) {
-        ks[d].push_back(((k % nk) + nk) % nk);
+        ks[d].emplace_back(((k % nk) + nk) % nk, x2);
       } else if (ax.mode == 2) {
         int const l = k + 1 - ax.off;
         if (l >= 0 && l < ax.ext)
-          ks[d].push_back(l);
+          ks[d].emplace_back(l, x2);
       } else {
         for (int img : {k - nk, k, k + nk})
           if (img - ax.off >= 0 && img - ax.off < ax.ext)
-            ks[d].push_back(img - ax.off);
+            ks[d].emplace_back(img - ax.off, x2);
       }
     }
   }
-  for (int kx : ks[0])
-    for (int ky : ks[1])
-      for (int kz : ks[2]) {
+  double const rr2 = rr * rr;
+  for (auto const &[kx, dx2] : ks[0])
+    for (auto const &[ky, dy2] : ks[1]) {
+      double const dxy2 = dx2 + dy2;
+      if (dxy2 > rr2)
+        continue;
+      for (auto const &[kz, dz2] : ks[2]) {
+        if (dxy2 + dz2 > rr2)
+          continue;
         int const g = (kx * gd[1] + ky) * gd[2] + kz;
         for (int i = m_count[g]; i < m_count[g + 1]; ++i)
           out.push_back(i);
       }
+    }
 }
 
 int Fluid::relocate_overlapping(System &s, std::uint64_t key) {
@@ -397,11 +423,27 @@ void Fluid::stream(System &s, double dt) {
   std::uint64_t const step = s.step();
   int const me = s.comm().rank();
   double const m = m_p.mass, kT = m_p.kT;
+  // the srd_boundary kernels of the types in use, looked up once per step
+  int const nt = std::min(max_type, s.interactions().n_types());
+  std::vector<BoundaryParams> btab(static_cast<std::size_t>(nt) * static_cast<std::size_t>(nt));
+  for (int c = 0; c < nt; ++c)
+    for (int t = 0; t < nt; ++t)
+      btab[static_cast<std::size_t>(c) * nt + t] = boundary(c, t);
+  BoundaryParams const none{};
+  auto bnd = [&](int c, int t) -> BoundaryParams const & {
+    return c >= 0 && t >= 0 && c < nt && t < nt ? btab[static_cast<std::size_t>(c) * nt + t] : none;
+  };
+  // the colloid centres folded into the box (minimum images by one wrap)
+  std::vector<Vector3d> Rf(cols.size());
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    Rf[j] = cols[j].R;
+    fold(Rf[j], L);
+  }
   double r_max = 0.;
   std::vector<double> r_pair(cols.size(), 0.); // largest radius with the pair coupling
   for (std::size_t j = 0; j < cols.size(); ++j)
-    for (int t = 0; t < max_type; ++t) {
-      auto const b = boundary(cols[j].type, t);
+    for (int t = 0; t < nt; ++t) {
+      auto const &b = bnd(cols[j].type, t);
       r_max = std::max(r_max, b.radius);
       if (b.active && b.coupling == Coupling::pair)
         r_pair[j] = std::max(r_pair[j], b.radius);
@@ -440,17 +482,27 @@ void Fluid::stream(System &s, double dt) {
       any |= r > 0.;
     events = any; // the same on every rank (the colloids are gathered)
   }
+  std::vector<char> narrow(cols.size(), 0), all_pair(cols.size(), 1);
+  std::vector<std::vector<int>> cand_of(cols.size()); // this rank's candidates of colloid j
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    for (int t = 0; t < nt; ++t) {
+      auto const &b = bnd(cols[j].type, t);
+      if (b.active && b.coupling != Coupling::pair)
+        all_pair[j] = 0;
+    }
   if (events) {
     double const margin = 0.1 * m_p.cell_size;
     std::vector<Vector3d> R0(cols.size());
-    for (std::size_t j = 0; j < cols.size(); ++j)
+    for (std::size_t j = 0; j < cols.size(); ++j) {
       R0[j] = cols[j].R - dt * cols[j].V;
+      fold(R0[j], L);
+    }
     std::vector<Cand> cand;
     auto consider = [&](int i, std::size_t j) {
-      auto const b = boundary(cols[j].type, type[i]);
+      auto const &b = bnd(cols[j].type, type[i]);
       if (!b.active || b.coupling != Coupling::pair)
         return;
-      Vector3d const d0 = box.get_mi_vector(pos[i], R0[j]);
+      Vector3d const d0 = mi_folded(pos[i], R0[j], L);
       Vector3d const w = v[i] - cols[j].V;
       double const w2 = w.norm2();
       double const t = w2 > 0. ? std::clamp(-(d0 * w) / w2, 0., dt) : 0.;
@@ -482,7 +534,7 @@ void Fluid::stream(System &s, double dt) {
             continue;
           if (!small_box) {
             // quick rejection along x (one wrap: r + reach < L/2)
-            double dx = pos[i][0] - (R0[j][0] - L[0] * std::floor(R0[j][0] / L[0]));
+            double dx = pos[i][0] - R0[j][0];
             dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
             if (std::abs(dx) >= r_pair[j] + margin + (std::abs(v[i][0]) + std::abs(cols[j].V[0])) * dt)
               continue;
@@ -504,6 +556,7 @@ void Fluid::stream(System &s, double dt) {
       Vector3d D{}, V, W; // displacement at time tc, velocity, angular velocity
       double tc = 0.;
       int ver = 0;
+      double dv = 0.; // largest |V - V(0)| within the step
       std::vector<int> pairs;
     };
     std::vector<PState> P;
@@ -524,7 +577,7 @@ void Fluid::stream(System &s, double dt) {
       C[j].V = cols[j].V, C[j].W = cols[j].W;
     for (std::size_t k = 0; k < cand.size(); ++k) {
       C[cand[k].j].pairs.push_back(static_cast<int>(k));
-      rad[k] = boundary(cols[cand[k].j].type, cand[k].type).radius;
+      rad[k] = bnd(cols[cand[k].j].type, cand[k].type).radius;
     }
     struct Ev {
       double t;
@@ -576,12 +629,13 @@ void Fluid::stream(System &s, double dt) {
       Vector3d const dn = c.d0 + p.X - cs.D;
       double const r = dn.norm();
       Vector3d const nrm = r > 0. ? dn / r : Vector3d{0., 0., 1.};
-      auto const b = boundary(col.type, c.type);
+      auto const &b = bnd(col.type, c.type);
       Vector3d const arm = b.radius * nrm;
       p.X = cs.D + arm - c.d0; // on the surface
       auto const bo = pair_rule(b, m, col.M, col.I, cs.V, cs.W, nrm, p.v, kT, m_p.seed, step,
                                 static_cast<std::uint64_t>(c.pid), key0(p.nb), key1(p.nb));
       cs.V += bo.J / col.M;
+      cs.dv = std::max(cs.dv, (cs.V - col.V).norm());
       if (col.I > 0.)
         cs.W += cross(arm, bo.J) / col.I;
       dP[e.j] += bo.J;
@@ -600,7 +654,16 @@ void Fluid::stream(System &s, double dt) {
       dR[j] = cs.D - dt * cols[j].V; // exactly 0 without bounces
       cols[j].R += dR[j];
       cols[j].V = cs.V, cols[j].W = cs.W;
+      // A particle that was no candidate of colloid j came no closer than
+      // radius + margin to R0 + V(0) t; the colloid's path deviates from that
+      // by at most dt max|V - V(0)|: below margin/2, no such particle can end
+      // inside it, and the end-of-step check of j needs only its candidates
+      // (and the bounced particles, checked against every colloid anyway)
+      narrow[j] = all_pair[j] && dt * cs.dv < 0.5 * margin;
     }
+    for (std::size_t k = 0; k < cand.size(); ++k)
+      if (cand[k].rank == me && narrow[cand[k].j])
+        cand_of[cand[k].j].push_back(cand[k].index);
     for (auto const &p : P) {
       if (p.nb == 0)
         continue;
@@ -630,17 +693,18 @@ void Fluid::stream(System &s, double dt) {
     pos[i] = mv.second[0], v[i] = mv.second[1];
     fold(pos[i], L);
   }
-  std::vector<double> Rx(cols.size());
-  for (std::size_t j = 0; j < cols.size(); ++j)
-    Rx[j] = cols[j].R[0] - L[0] * std::floor(cols[j].R[0] / L[0]);
+  for (std::size_t j = 0; j < cols.size(); ++j) { // the centres after the events
+    Rf[j] = cols[j].R;
+    fold(Rf[j], L);
+  }
   double const r_rej = small_box ? INFINITY : r_max;
   std::vector<Hit> hits;
   auto inside = [&](int i, std::size_t j) {
     auto const &c = cols[j];
-    auto const b = boundary(c.type, type[i]);
+    auto const &b = bnd(c.type, type[i]);
     if (!b.active)
       return false;
-    Vector3d const d = box.get_mi_vector(pos[i], c.R);
+    Vector3d const d = mi_folded(pos[i], Rf[j], L);
     if (events && b.coupling == Coupling::pair ? !deep_inside(d.norm2(), b.radius)
                                                : d.norm2() >= b.radius * b.radius)
       return false;
@@ -659,7 +723,10 @@ void Fluid::stream(System &s, double dt) {
     std::vector<int> cand;
     for (std::size_t j = 0; j < cols.size(); ++j) {
       cand.clear();
-      near(cols[j].R, r_search, L, cand);
+      if (narrow[j])
+        cand = cand_of[j];
+      else
+        near(cols[j].R, r_search, L, cand);
       for (int i : cand)
         if (m_hit[i] != stamp && inside(i, j))
           m_hit[i] = stamp;
@@ -685,7 +752,7 @@ void Fluid::stream(System &s, double dt) {
         // quick rejection along x: pos and the folded centre differ by less
         // than L + v dt, so one wrap gives the minimum image whenever it is
         // shorter than r_max < L/2
-        double dx = pos[i][0] - Rx[j];
+        double dx = pos[i][0] - Rf[j][0];
         dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
         if (std::abs(dx) >= r_rej)
           continue;
@@ -706,7 +773,7 @@ void Fluid::stream(System &s, double dt) {
     V[j] = cols[j].V, W[j] = cols[j].W;
   for (auto const &h : hits) {
     auto const &c = cols[h.j];
-    auto const b = boundary(c.type, h.type);
+    auto const &b = bnd(c.type, h.type);
     bool const pair = b.coupling == Coupling::pair;
     Vector3d const &v0 = h.v;
     // seed 003: half a step back, onto the surface along the shortest vector

@@ -94,6 +94,7 @@ public:
   /** Checkpoint restore: the collision and streaming counters. */
   void set_counters(std::uint64_t collisions, std::uint64_t streams) {
     m_n_collisions = collisions, m_n_streams = streams;
+    m_hit.clear(); // its stamps are streaming counts (collide.cpp)
   }
   int size() const { return static_cast<int>(pos.size()); }
 
@@ -163,7 +164,7 @@ private:
   std::uint64_t m_n_streams = 0;
   InteractionTable const *m_ia = nullptr; // the System's interaction table
   // collision scratch
-  std::vector<int> m_cell, m_count, m_start, m_order, m_id2, m_t2, m_slot;
+  std::vector<int> m_cell, m_count, m_start, m_id2, m_t2, m_slot;
   std::vector<Utils::Vector3d> m_p2, m_v2, m_xi, m_r;
   // colloid search (stream): the particles are in the cell order of the
   // last collision (m_count: cell starts); m_disp bounds how far any

@@ -36,10 +36,6 @@ Vector3d cross(Vector3d const &a, Vector3d const &b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-// Rodrigues: rotate w by angle (cos c, sin s) about the unit axis n.
-Vector3d rotate(Vector3d const &w, Vector3d const &n, double c, double s) {
-  return c * w + s * cross(n, w) + ((1. - c) * (n * w)) * n;
-}
 
 // Solve the symmetric 3x3 system A x = b (Cramer); false if singular.
 bool solve3(double const A[3][3], Vector3d const &b, Vector3d &x) {
@@ -102,6 +98,21 @@ inline void add_exact_v(double x, double *s) {
   s[1] += ((y - h) * 33554432. + kMagic) - kMagic; // times 2^25
 }
 inline double exact_value_v(double const *s) { return s[0] * 9.5367431640625e-07 + s[1] * 2.842170943040401e-14; }
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define MARBLE_SRD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MARBLE_SRD_CLONES
+#endif
+// The rotation axes of a block of cells (global indices @p cell): one cell
+// per SIMD lane, the same bits as cell_axis() one at a time (random.hpp).
+MARBLE_SRD_CLONES void cell_axes(Utils::PairNoiseKey const key, int const *__restrict cell, int n,
+                                 double *__restrict x, double *__restrict y, double *__restrict z) {
+  for (int k = 0; k < n; ++k)
+    cell_axis_z_phi(key, static_cast<std::uint32_t>(cell[k]), x[k], y[k], z[k]);
+  for (int k = 0; k < n; ++k)
+    cell_axis_xy(x[k], y[k], z[k]);
+}
 
 struct SrdRecord {
   Vector3d pos, v;
@@ -198,13 +209,22 @@ void Fluid::collide(System &s) {
   };
   bool bad_cell = false;
   auto cell_coord = [&](double x, int d) {
-    // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d]
-    int k = static_cast<int>(std::floor((x - shift[d]) * inv_a0));
+    // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d];
+    // floor by truncation and correction (no libm call), the periodic wrap
+    // without an integer division where k is in [-n_d, 2 n_d)
+    double const t = (x - shift[d]) * inv_a0;
+    int k = static_cast<int>(t);
+    k -= t < static_cast<double>(k);
     if (ax[d].mode == 2)
       k = std::clamp(k + 1, 0, gdim[d] - 1);
     else if (ax[d].mode == 0) {
-      k %= m_grid[d];
-      return k < 0 ? k + m_grid[d] : k;
+      int const nd = m_grid[d];
+      k += k < 0 ? nd : (k >= nd ? -nd : 0);
+      if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
+        k %= nd;
+        k = k < 0 ? k + nd : k;
+      }
+      return k;
     }
     k -= ax[d].off;
     if (k < 0 || k >= ax[d].ext) [[unlikely]] {
@@ -216,12 +236,32 @@ void Fluid::collide(System &s) {
   // counting sort of the particles into the shifted cells (local grid)
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
-  for (int i = 0; i < n; ++i) {
-    int g = 0;
-    for (int d = 0; d < 3; ++d)
-      g = g * ldim[d] + cell_coord(pos[i][d], d);
-    m_cell[i] = g;
-    ++m_count[g + 1];
+  if (ax[0].mode == 0 && ax[1].mode == 0 && ax[2].mode == 0) { // the whole periodic box (one rank)
+    auto coord = [&](double x, int d) {
+      double const t = (x - shift[d]) * inv_a0;
+      int k = static_cast<int>(t);
+      k -= t < static_cast<double>(k);
+      int const nd = m_grid[d];
+      k += k < 0 ? nd : (k >= nd ? -nd : 0);
+      if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
+        k %= nd;
+        k = k < 0 ? k + nd : k;
+      }
+      return k;
+    };
+    int *__restrict cl = m_cell.data(), *__restrict cnt = m_count.data();
+    for (int i = 0; i < n; ++i) {
+      int const g = (coord(pos[i][0], 0) * ldim[1] + coord(pos[i][1], 1)) * ldim[2] + coord(pos[i][2], 2);
+      cl[i] = g;
+      ++cnt[g + 1];
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      int const g = (cell_coord(pos[i][0], 0) * ldim[1] + cell_coord(pos[i][1], 1)) * ldim[2] +
+                    cell_coord(pos[i][2], 2);
+      m_cell[i] = g;
+      ++m_count[g + 1];
+    }
   }
   if (bad_cell)
     throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(comm.rank()) +
@@ -229,22 +269,19 @@ void Fluid::collide(System &s) {
                               "particle migration)");
   for (int g = 0; g < n_cells; ++g)
     m_count[g + 1] += m_count[g];
-  m_order.resize(n);
-  m_start.assign(m_count.begin(), m_count.end());
-  for (int i = 0; i < n; ++i)
-    m_order[m_start[m_cell[i]]++] = i;
-  // permute the arrays into cell order (contiguous cells; streaming stays sequential)
+  m_start.assign(m_count.begin(), m_count.end() - 1);
+  // scatter the arrays into cell order (stable: ascending old index within a
+  // cell; sequential reads; contiguous cells, streaming stays sequential)
   m_p2.resize(n), m_v2.resize(n), m_id2.resize(n), m_t2.resize(n);
-  // (and the range of the exact cell sums below: the largest |v component|;
-  // a NaN fails every comparison)
-  double v_big = 0.;
-  bool v_ok = true;
-  for (int k = 0; k < n; ++k) {
-    int const i = m_order[k];
-    m_p2[k] = pos[i], m_v2[k] = v[i], m_id2[k] = id[i], m_t2[k] = type[i];
-    double const ax = std::abs(v[i][0]), ay = std::abs(v[i][1]), az = std::abs(v[i][2]);
-    v_big = std::max(v_big, std::max(ax, std::max(ay, az)));
-    v_ok &= (ax < kTermLimit) & (ay < kTermLimit) & (az < kTermLimit);
+  {
+    Vector3d const *__restrict p0 = pos.data(), *__restrict v0 = v.data();
+    int const *__restrict i0 = id.data(), *__restrict t0 = type.data(), *__restrict cl = m_cell.data();
+    Vector3d *__restrict p1 = m_p2.data(), *__restrict v1 = m_v2.data();
+    int *__restrict i1 = m_id2.data(), *__restrict t1 = m_t2.data(), *__restrict st = m_start.data();
+    for (int i = 0; i < n; ++i) {
+      int const k = st[cl[i]]++;
+      p1[k] = p0[i], v1[k] = v0[i], i1[k] = i0[i], t1[k] = t0[i];
+    }
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
 
@@ -369,12 +406,26 @@ void Fluid::collide(System &s) {
 
   // A: local sums of cell g (particles [b, e)); AT: draws xi, AT+a: r
   bool too_fast = false; // a term beyond the range of the exact sums
-  double vmax = 0.;       // largest |v component| of this rank (one-limb velocity sums)
+  // the largest |v component| of particles [b, e); false if one is not
+  // below 2^20 (or not finite: a NaN fails every comparison)
+  auto v_range = [&](int b, int e, double &big) {
+    big = 0.;
+    bool ok = true;
+    for (int i = b; i < e; ++i)
+      for (int d = 0; d < 3; ++d) {
+        double const x = std::abs(v[i][d]);
+        big = std::max(big, x);
+        ok &= x < kTermLimit;
+      }
+    too_fast |= !ok;
+    return ok;
+  };
   auto sums_A = [&](int b, int e, double *A, bool shared_cell) {
     std::fill(A, A + (ang ? nA : at ? 13 : 7), 0.);
     A[0] = e - b;
-    // |v| < 2^20: checked in one sweep before the cell loop (vmax)
-    if (!shared_cell && vmax < 64. && (e - b) * vmax < 256.) {
+    double vmax; // one limb where the sums stay below 2^53 (decided per cell: the same value either way)
+    bool const ok = v_range(b, e, vmax);
+    if (!shared_cell && ok && vmax < 64. && (e - b) * vmax < 256.) {
       double s0 = 0., s1 = 0., s2 = 0.; // one limb: round(v 2^45), exact sums below 2^53
       for (int i = b; i < e; ++i) {
         s0 += (v[i][0] * 35184372088832. + kMagic) - kMagic;
@@ -421,13 +472,23 @@ void Fluid::collide(System &s) {
     }
     return m;
   };
-  // first half: rotation (rule srd), local B sums
-  auto stage1 = [&](int g, int b, int e, Mean const &m, double *B) {
-    std::fill(B, B + nB, 0.);
+  // first half: rotation (rule srd) about @p axis, local B sums
+  auto stage1 = [&](Vector3d const &axis, int b, int e, Mean const &m, double *B) {
+    if (thermo || ang)
+      std::fill(B, B + nB, 0.);
     if (!at) {
-      Vector3d const axis = random_axis(m_p.seed, c, static_cast<std::uint64_t>(g));
-      for (int i = b; i < e; ++i)
-        v[i] = m.u + rotate(v[i] - m.u, axis, ca, sa);
+      // Rodrigues' rotation by alpha about the axis n as a matrix:
+      // R w = c w + s (n x w) + (1 - c)(n.w) n
+      double const k = 1. - ca;
+      double const nx = axis[0], ny = axis[1], nz = axis[2];
+      double const R[3][3] = {{ca + k * nx * nx, k * nx * ny - sa * nz, k * nx * nz + sa * ny},
+                              {k * ny * nx + sa * nz, ca + k * ny * ny, k * ny * nz - sa * nx},
+                              {k * nz * nx - sa * ny, k * nz * ny + sa * nx, ca + k * nz * nz}};
+      for (int i = b; i < e; ++i) {
+        Vector3d const w = v[i] - m.u;
+        for (int d = 0; d < 3; ++d)
+          v[i][d] = m.u[d] + (R[d][0] * w[0] + R[d][1] * w[1] + R[d][2] * w[2]);
+      }
       if (thermo) {
         double big = 0.;
         for (int i = b; i < e; ++i) {
@@ -500,27 +561,56 @@ void Fluid::collide(System &s) {
     }
   };
 
-  too_fast |= !v_ok;
-  vmax = v_ok ? v_big : INFINITY; // INFINITY: two limbs (the collision stops anyway)
   // local cells: everything at once; shared cells: their A sums collected
   std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
   double A[nA], B[nB];
-  for (int g = 0; g < n_cells; ++g) {
-    int const b = m_count[g], e = m_count[g + 1];
-    if (e == b)
-      continue;
-    int const sl = slot_of(g);
-    if (sl >= 0) {
-      sums_A(b, e, &bufA[static_cast<std::size_t>(sl) * nA], true);
-      continue;
+  // the largest speed after the collision (the colloid search's displacement bound)
+  double v2max = 0.;
+  auto speed2 = [&](int b, int e) {
+    for (int i = b; i < e; ++i)
+      v2max = std::max(v2max, v[i].norm2());
+  };
+  // the cells in blocks: first the rotation axes of the block (SIMD lanes),
+  // then its cells
+  auto const akey = axis_key(m_p.seed, c);
+  auto axis_of = [&](int gg) {
+    Vector3d x{};
+    if (!at)
+      cell_axis(akey, static_cast<std::uint32_t>(gg), x[0], x[1], x[2]);
+    return x;
+  };
+  constexpr int kBlock = 128;
+  std::array<int, kBlock> bg{};
+  std::array<double, kBlock> bx{}, by{}, bz{};
+  for (int g0 = 0; g0 < n_cells; g0 += kBlock) {
+    int const g1 = std::min(n_cells, g0 + kBlock);
+    if (!at) {
+      for (int g = g0; g < g1; ++g)
+        bg[g - g0] = global_of(g);
+      cell_axes(akey, bg.data(), g1 - g0, bx.data(), by.data(), bz.data());
     }
-    if (e - b < 2)
-      continue; // one particle: nothing to exchange
-    sums_A(b, e, A, false);
-    auto const m = means(A);
-    int const gg = global_of(g);
-    stage1(gg, b, e, m, B);
-    stage2(gg, b, e, m, B);
+    for (int g = g0; g < g1; ++g) {
+      int const b = m_count[g], e = m_count[g + 1];
+      if (e == b)
+        continue;
+      int const sl = slot_of(g);
+      if (sl >= 0) {
+        sums_A(b, e, &bufA[static_cast<std::size_t>(sl) * nA], true);
+        continue;
+      }
+      if (e - b < 2) { // one particle: nothing to exchange
+        double big;
+        v_range(b, e, big);
+        speed2(b, e);
+        continue;
+      }
+      sums_A(b, e, A, false);
+      auto const m = means(A);
+      int const gg = global_of(g);
+      stage1(Vector3d{bx[g - g0], by[g - g0], bz[g - g0]}, b, e, m, B);
+      stage2(gg, b, e, m, B);
+      speed2(b, e);
+    }
   }
   // shared cells: exchange the sums with the other touching ranks and add
   // them in rank order (the same bits on every touching rank)
@@ -562,7 +652,7 @@ void Fluid::collide(System &s) {
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
-      stage1(global_of(g), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+      stage1(axis_of(global_of(g)), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
     }
     if (thermo || ang)
       exchange(bufB, nB);
@@ -580,17 +670,24 @@ void Fluid::collide(System &s) {
                               "collision cell holds more than 8192 particles (likely cause: a blow-up, e.g. "
                               "a too large drive or colloid force, or velocities set by hand); the "
                               "collision's sums cannot be exact");
+  for (int g : shared)
+    speed2(m_count[g], m_count[g + 1]);
   // the cell index for the colloid search of the next streaming steps
-  double v2max = 0.;
-  for (int i = 0; i < n; ++i)
-    v2max = std::max(v2max, v[i].norm2());
   m_vmax = std::sqrt(v2max);
   m_disp = 0.;
   m_index_shift = shift;
   m_index_axes = ax;
   m_index_dim = ldim;
-  m_hit.assign(n, 0);
-  m_is_loose.assign(n, 0);
+  // m_hit holds stamps of streaming steps (older ones never match a later
+  // stamp: no reset needed unless the size changed); m_is_loose is set
+  // exactly at the indices listed in m_loose
+  if (static_cast<int>(m_hit.size()) != n)
+    m_hit.assign(n, 0);
+  if (static_cast<int>(m_is_loose.size()) != n)
+    m_is_loose.assign(n, 0);
+  else
+    for (int i : m_loose)
+      m_is_loose[i] = 0;
   m_loose.clear();
   m_index_valid = true;
   ++m_n_collisions;
