@@ -25,6 +25,9 @@ parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("--phi", type=float, required=True, help="volume fraction (0: the solvent alone)")
 parser.add_argument("--boundary", choices=["slip", "stick"], default="slip")
 parser.add_argument("--trans-gamma", type=float, default=None, help="stick: tangential friction (default 45)")
+parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+                    help="stick: friction of a bead in several colloids' shells (default full)")
+parser.add_argument("--stick-shell", type=float, default=None, help="stick: the friction shell's thickness")
 parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 10])
 parser.add_argument("--time", type=float, default=2000.0, help="production time")
 parser.add_argument("--equil", type=float, default=20.0)
@@ -49,6 +52,8 @@ if args.phi > 0:
     kw = dict(boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
         kw["trans_gamma"] = args.trans_gamma
+    if args.boundary == "stick":
+        kw.update(shared=args.shared, stick_shell=args.stick_shell)
     info = sus.setup_suspension(s, phi=args.phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
                                 h_cut=1.0, **contact, **kw)
 else:
@@ -67,6 +72,7 @@ s.integrator.run(int(round(args.equil / args.dt)))
 res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5, mass_proportional=True)
 out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
+           shared=info.get("shared"), stick_shell=info.get("stick_shell"),
            box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
            eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max,
            colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
