@@ -3,7 +3,8 @@ sections 7 and 7c): the scene of samples/suspension_viscosity.py (seed 004's
 solvent and colloids, R = 1, softer contact f_c = 50, delta = 0.02, squeeze
 lubrication eta0 = 0.3 with h_cut = 1, Shardlow dt = 0.01), sheared by the
 mass-proportional reverse Poiseuille flow; one scene per call so that the
-scenes run side by side, each appending a JSON line.
+scenes run side by side, each appending a JSON line. The scene and the
+measurement are the sample's (imported).
 
     ./pymarble bench/suspension_stick_viscosity.py --phi 0 --time 3000 --json out.jsonl   # solvent
     ./pymarble bench/suspension_stick_viscosity.py --phi 0.1 --boundary stick --time 3000 --json out.jsonl
@@ -12,19 +13,25 @@ The runs quoted in doc/suspensions.md section 7c are in bench/results/suspension
 """
 import argparse
 import json
+import os
+import sys
 import time
 
 import numpy as np
 
 import marble
-import marble.suspensions as sus
 from marble import theory
-from marble.viscosity import reverse_poiseuille
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "samples"))
+import suspension_viscosity as sample  # noqa: E402
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("--phi", type=float, required=True, help="volume fraction (0: the solvent alone)")
 parser.add_argument("--boundary", choices=["slip", "stick"], default="slip")
 parser.add_argument("--trans-gamma", type=float, default=None, help="stick: tangential friction (default 45)")
+parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+                    help="stick: friction of a bead in several colloids' shells (default full)")
+parser.add_argument("--stick-shell", type=float, default=None, help="stick: the friction shell's thickness")
 parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 10])
 parser.add_argument("--time", type=float, default=2000.0, help="production time")
 parser.add_argument("--equil", type=float, default=20.0)
@@ -37,36 +44,22 @@ parser.add_argument("--json", help="append the result (a JSON line) to this file
 args = parser.parse_args()
 
 marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
-R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 box = np.array(args.box, dtype=float)
-contact = dict(f_contact=50.0, delta=0.02)
 
 t0 = time.process_time()
-s = marble.System(box_l=box)
-s.time_step = args.dt
-s.cell_system.skin = 0.4
+kw = {}
 if args.phi > 0:
     kw = dict(boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
         kw["trans_gamma"] = args.trans_gamma
-    info = sus.setup_suspension(s, phi=args.phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
-                                h_cut=1.0, **contact, **kw)
-else:
-    info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=ETA0, seed=args.seed,
-                                positions=[0.5 * box], **contact)
-    s.part.by_ids(info["colloid_ids"]).remove()
-    s.non_bonded_inter.reset()
-    s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
-    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, r_cut=1.0)
-    info["n_colloids"], info["phi"] = 0, 0.0
-s.integrator.set_shardlow()
-p = s.part.all()
-v, m = np.asarray(p.v), np.asarray(p.mass)
-p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
-s.integrator.run(int(round(args.equil / args.dt)))
-res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5, mass_proportional=True)
+    if args.boundary == "stick":
+        kw.update(shared=args.shared, stick_shell=args.stick_shell)
+# the sample's scene and measurement (samples/suspension_viscosity.py)
+s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
+res = sample.measure(s, args.g, args.time)
 out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
+           shared=info.get("shared"), stick_shell=info.get("stick_shell"),
            box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
            eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max,
            colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)

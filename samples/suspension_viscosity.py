@@ -38,6 +38,9 @@ colloid, whose central colloid-solvent friction makes it a slipping sphere (sect
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
 not developed then; the numbers are noise).
+
+Importable (bench/suspension_stick_viscosity.py reuses ``scene`` and ``measure``):
+the run is in ``main()``.
 """
 import argparse
 import math
@@ -50,51 +53,28 @@ import marble.suspensions as sus
 from marble import theory
 from marble.viscosity import reverse_poiseuille
 
-short = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
-parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 8] if short else [8, 8, 12])
-parser.add_argument("--phi", type=float, nargs="+",
-                    default=[0.05, 0.1] if short else [0.05, 0.1, 0.2, 0.3])
-parser.add_argument("--time", type=float, default=5.0 if short else 1000.0,
-                    help="production time per scene")
-parser.add_argument("--equil", type=float, default=2.0 if short else 20.0,
-                    help="equilibration at rest before the flow (time units)")
-parser.add_argument("--g", type=float, default=0.02,
-                    help="body force per particle of mean mass (mass_proportional)")
-parser.add_argument("--dt", type=float, default=0.01)
-parser.add_argument("--seed-contact", action="store_true",
-                    help="seed 004's contact force (f_c = 1e4 kT, delta = 1e-3; use dt = 1e-3)")
-parser.add_argument("--seed", type=int, default=11)
-parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
-                    help="slip: seed 004's colloids (central friction); stick: rotating colloids with "
-                         "the tangential surface_friction (doc/suspensions.md section 7c)")
-parser.add_argument("--trans-gamma", type=float, default=None,
-                    help="stick: the tangential friction (default setup_suspension's 45)")
-parser.add_argument("--png", default="suspension_viscosity.png")
-args = parser.parse_args()
-
-marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
-
 R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
-box = np.array(args.box, dtype=float)
-contact = {} if args.seed_contact else dict(f_contact=50.0, delta=0.02)
-stick = dict(boundary=args.boundary)
-if args.boundary == "stick" and args.trans_gamma is not None:
-    stick["trans_gamma"] = args.trans_gamma
-if args.boundary == "stick":
-    marble.assert_features("TRANS_DPD", "ROTATION")
+SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)  # contact stiffness 7500, period 0.18: dt = 0.01
 
 
-def scene(phi):
+def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw):
+    """The scene at volume fraction ``phi`` (0: the solvent alone, setup_suspension's
+    solvent without the colloid) in a box ``box``: seed 004's colloids and solvent,
+    ``contact`` the contact parameters (default SOFT_CONTACT), ``suspension_kw``
+    more setup_suspension parameters (boundary, trans_gamma, shared, colloid_dpd, ...);
+    Shardlow at ``dt``, zero total momentum, ``equil`` time units at rest.
+    Returns (system, info)."""
+    box = np.asarray(box, dtype=float)
+    contact = SOFT_CONTACT if contact is None else contact
     s = marble.System(box_l=box)
-    s.time_step = args.dt
+    s.time_step = dt
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=args.seed, h_cut=1.0, **contact, **stick)
+                                    seed=seed, h_cut=1.0, **contact, **suspension_kw)
     else:  # the solvent alone: setup_suspension's solvent without the colloid
         info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=args.seed, positions=[0.5 * box], **contact)
+                                    seed=seed, positions=[0.5 * box], **contact)
         s.part.by_ids(info["colloid_ids"]).remove()
         s.non_bonded_inter.reset()
         s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
@@ -105,51 +85,98 @@ def scene(phi):
     v = np.asarray(p.v)
     m = np.asarray(p.mass)
     p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)  # no drift of the centre of mass
-    s.integrator.run(int(round(args.equil / args.dt)))
+    s.integrator.run(int(round(equil / dt)))
     return s, info
 
 
-def measure(phi):
-    s, info = scene(phi)
-    res = reverse_poiseuille(s, g=args.g, time=args.time, n_blocks=10, margin=1.5,
-                             equilibration=0.5 * args.equil if short else None,
-                             mass_proportional=True)
-    print(f"phi = {info['phi']:.4f} ({info['n_colloids']} colloids, {len(s.part.all())} "
-          f"particles): eta = {res.eta:.4f} +/- {res.eta_err:.4f}, kT = {res.kT:.4f}, "
-          f"v_max = {res.v_max:.3f}", flush=True)
-    return info["phi"], res
+def measure(s, g, time, equilibration=None):
+    """eta of the scene by the mass-proportional reverse Poiseuille flow (10 blocks,
+    margin 1.5): marble.viscosity.reverse_poiseuille's result."""
+    return reverse_poiseuille(s, g=g, time=time, n_blocks=10, margin=1.5,
+                              equilibration=equilibration, mass_proportional=True)
 
 
-phi0, res0 = measure(0.0)
-rows = []
-for phi in args.phi:
-    ph, res = measure(phi)
-    er = res.eta / res0.eta
-    er_err = er * math.hypot(res.eta_err / res.eta, res0.eta_err / res0.eta)
-    rows.append((ph, er, er_err))
-print(f"box {box}, dt = {args.dt}, g = {args.g}, {args.time} time units per scene")
-print(f"eta_0 = {res0.eta:.4f} +/- {res0.eta_err:.4f}")
-print(" phi     eta_r            Batchelor  Krieger-Dougherty")
-for ph, er, e in rows:
-    print(f" {ph:.3f}   {er:.3f} +/- {e:.3f}   {theory.batchelor_viscosity(ph):.3f}      "
-          f"{theory.krieger_dougherty_viscosity(ph):.3f}")
+def main():
+    short = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 8] if short else [8, 8, 12])
+    parser.add_argument("--phi", type=float, nargs="+",
+                        default=[0.05, 0.1] if short else [0.05, 0.1, 0.2, 0.3])
+    parser.add_argument("--time", type=float, default=5.0 if short else 1000.0,
+                        help="production time per scene")
+    parser.add_argument("--equil", type=float, default=2.0 if short else 20.0,
+                        help="equilibration at rest before the flow (time units)")
+    parser.add_argument("--g", type=float, default=0.02,
+                        help="body force per particle of mean mass (mass_proportional)")
+    parser.add_argument("--dt", type=float, default=0.01)
+    parser.add_argument("--seed-contact", action="store_true",
+                        help="seed 004's contact force (f_c = 1e4 kT, delta = 1e-3; use dt = 1e-3)")
+    parser.add_argument("--seed", type=int, default=11)
+    parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
+                        help="slip: seed 004's colloids (central friction); stick: rotating colloids with "
+                             "the tangential surface_friction (doc/suspensions.md section 7c)")
+    parser.add_argument("--trans-gamma", type=float, default=None,
+                        help="stick: the tangential friction (default setup_suspension's 45)")
+    parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+                        help="stick: the friction of a bead inside several colloids' shells "
+                             "(default setup_suspension's)")
+    parser.add_argument("--png", default="suspension_viscosity.png")
+    args = parser.parse_args()
 
-import matplotlib  # noqa: E402
+    marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
+    box = np.array(args.box, dtype=float)
+    contact = {} if args.seed_contact else SOFT_CONTACT
+    stick = dict(boundary=args.boundary)
+    if args.boundary == "stick":
+        marble.assert_features("TRANS_DPD", "ROTATION")
+        if args.trans_gamma is not None:
+            stick["trans_gamma"] = args.trans_gamma
+        if args.shared is not None:
+            stick["shared"] = args.shared
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+    def run(phi):
+        s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,
+                        **(stick if phi > 0 else {}))
+        res = measure(s, args.g, args.time, equilibration=0.5 * args.equil if short else None)
+        print(f"phi = {info['phi']:.4f} ({info['n_colloids']} colloids, {len(s.part.all())} "
+              f"particles): eta = {res.eta:.4f} +/- {res.eta_err:.4f}, kT = {res.kT:.4f}, "
+              f"v_max = {res.v_max:.3f}", flush=True)
+        return info["phi"], res
 
-fig, ax = plt.subplots(figsize=(6, 4))
-ph = np.linspace(0.0, max(0.35, max(r[0] for r in rows)), 100)
-ax.plot(ph, theory.batchelor_viscosity(ph), "-", label="Batchelor 1 + 2.5 phi + 6.2 phi^2")
-ax.plot(ph, theory.krieger_dougherty_viscosity(ph), "--", label="Krieger-Dougherty, phi_m = 0.63")
-ax.errorbar([r[0] for r in rows], [r[1] for r in rows], yerr=[r[2] for r in rows], fmt="o",
-            label=f"core-modified DPD, {args.boundary} colloids (reverse Poiseuille)")
-ax.set_xlabel("phi")
-ax.set_ylabel("eta / eta_0")
-ax.set_title("Suspension viscosity, seed 004 model")
-ax.legend()
-fig.tight_layout()
-if marble.mpi_rank() == 0:
-    fig.savefig(args.png, dpi=120)
-    print(f"wrote {args.png}")
+    phi0, res0 = run(0.0)
+    rows = []
+    for phi in args.phi:
+        ph, res = run(phi)
+        er = res.eta / res0.eta
+        er_err = er * math.hypot(res.eta_err / res.eta, res0.eta_err / res0.eta)
+        rows.append((ph, er, er_err))
+    print(f"box {box}, dt = {args.dt}, g = {args.g}, {args.time} time units per scene")
+    print(f"eta_0 = {res0.eta:.4f} +/- {res0.eta_err:.4f}")
+    print(" phi     eta_r            Batchelor  Krieger-Dougherty")
+    for ph, er, e in rows:
+        print(f" {ph:.3f}   {er:.3f} +/- {e:.3f}   {theory.batchelor_viscosity(ph):.3f}      "
+              f"{theory.krieger_dougherty_viscosity(ph):.3f}")
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ph = np.linspace(0.0, max(0.35, max(r[0] for r in rows)), 100)
+    ax.plot(ph, theory.batchelor_viscosity(ph), "-", label="Batchelor 1 + 2.5 phi + 6.2 phi^2")
+    ax.plot(ph, theory.krieger_dougherty_viscosity(ph), "--", label="Krieger-Dougherty, phi_m = 0.63")
+    ax.errorbar([r[0] for r in rows], [r[1] for r in rows], yerr=[r[2] for r in rows], fmt="o",
+                label=f"core-modified DPD, {args.boundary} colloids (reverse Poiseuille)")
+    ax.set_xlabel("phi")
+    ax.set_ylabel("eta / eta_0")
+    ax.set_title("Suspension viscosity, seed 004 model")
+    ax.legend()
+    fig.tight_layout()
+    if marble.mpi_rank() == 0:
+        fig.savefig(args.png, dpi=120)
+        print(f"wrote {args.png}")
+
+
+if __name__ == "__main__":
+    main()

@@ -8,7 +8,9 @@ both orders of the types and of the ids; nothing along e; zero from the
 cutoff on; momentum and angular momentum (sum r x p + I omega, about the
 origin) conserved to 1e-12 with noise under velocity Verlet and Shardlow; the
 dissipated power F . u <= 0 at kT = 0; the noise variance 2 kT gamma w^2/dt
-per tangential direction; its virial in dpd_stress(); bad input."""
+per tangential direction; its virial in dpd_stress(); the shared-shell
+option (a bead inside the shells of n colloids: gamma, gamma/n or nothing per
+pair) against numpy with noise, with conservation and the virial; bad input."""
 import itertools
 import unittest
 
@@ -211,6 +213,119 @@ class SurfaceFriction(unittest.TestCase):
         np.testing.assert_allclose(fric, np.outer(d, ff) / V, rtol=0, atol=1e-12 * np.max(np.abs(ff)) / V)
         np.testing.assert_allclose(noise, np.outer(d, fn) / V, rtol=0, atol=1e-12 * np.max(np.abs(fn)) / V)
 
+    # -- shared shells (option shared) ---------------------------------------------
+    SH_PRM = dict(gamma=45.0, r_cut=0.4, a1=1.0, a2=0.0)
+
+    def shared_scene(self, shared, kT, shardlow=False, L=12.0):
+        """Three colloids (R = 1) with gaps 0.3 and beads in 0, 1, 2 and 3 shells."""
+        rng = np.random.default_rng(5)
+        s = marble.System(box_l=[L] * 3)
+        s.time_step = DT
+        c = np.array([[5.0, 5.0, 5.0], [7.3, 5.0, 5.0], [6.15, 5.0 + 2.3 * np.sqrt(0.75), 5.0]])
+        for x in c:
+            s.part.add(pos=x, type=1, mass=4.0, rotation=[True] * 3, rinertia=[1.6] * 3,
+                       v=0.3 * rng.normal(size=3), omega_lab=rng.normal(size=3))
+        centre = c.mean(axis=0)
+        beads = [centre + [0, 0, 0.1],                 # in the three shells
+                 0.5 * (c[0] + c[1]) + [0, -0.05, 0.2],  # between two colloids
+                 0.5 * (c[1] + c[2]) + [0.05, 0, -0.3],
+                 c[0] + [-1.2, 0.1, 0.0],               # one shell
+                 c[2] + [0.0, 1.1, 0.2],
+                 c[1] + [0.3, -0.2, 1.1],
+                 c[0] + [0.0, -2.0, 0.0]]               # none
+        for b in beads:
+            s.part.add(pos=b, type=0, v=rng.normal(size=3))
+        s.non_bonded_inter[1, 0].surface_friction.set_params(**self.SH_PRM, shared=shared)
+        s.thermostat.set_dpd(kT=kT, seed=SEED)
+        s.thermostat.dpd.philox_counter = COUNTER
+        if shardlow:
+            s.integrator.set_shardlow()
+        return s
+
+    @staticmethod
+    def ref_shared(s, shared, kT):
+        """Forces and torques of the scene by numpy: n shells per bead, gamma s(n)."""
+        p = s.part.all()
+        x, v, w = np.asarray(p.pos), np.asarray(p.v), np.asarray(p.omega_lab)
+        ids, typ = np.asarray(p.id), np.asarray(p.type)
+        prm = SurfaceFriction.SH_PRM
+        col, bead = np.where(typ == 1)[0], np.where(typ == 0)[0]
+        h = np.linalg.norm(x[col][:, None] - x[bead][None], axis=2) - prm["a1"]
+        n = np.sum(h < prm["r_cut"], axis=0)
+        f, t = np.zeros_like(x), np.zeros_like(x)
+        for a, ci in enumerate(col):
+            for b, bi in enumerate(bead):
+                if h[a, b] >= prm["r_cut"]:
+                    continue
+                sc = 1.0 if shared == "full" or n[b] <= 1 else (1.0 / n[b] if shared == "split" else 0.0)
+                if sc == 0.0:
+                    continue
+                sign = 1.0 if ids[ci] < ids[bi] else -1.0
+                xi = sign * pair_uniform3(SEED, SALT, COUNTER, min(ids[ci], ids[bi]), max(ids[ci], ids[bi]))
+                q = dict(prm, gamma=prm["gamma"] * sc)
+                fi, ti, tj = ref_force(q, x[ci] - x[bi], v[ci] - v[bi], w[ci], w[bi], xi, kT, DT)
+                f[ci] += fi
+                f[bi] -= fi
+                t[ci] += ti
+                t[bi] += tj
+        return f, t, n
+
+    def test_shared_force_and_torque(self):
+        for shared, kT in itertools.product(("full", "split", "off"), (0.0, 0.4)):
+            with self.subTest(shared=shared, kT=kT):
+                s = self.shared_scene(shared, kT)
+                s.integrator.run(0)
+                f, t, n = self.ref_shared(s, shared, kT)
+                self.assertEqual(sorted(n.tolist()), [0, 1, 1, 1, 2, 2, 3])
+                p = s.part.all()
+                scale = np.max(np.abs(f))
+                np.testing.assert_allclose(p.f, f, rtol=0, atol=1e-12 * scale)
+                np.testing.assert_allclose(p.torque_lab, t, rtol=0, atol=1e-12 * np.max(np.abs(t)))
+                self.assertEqual(s.non_bonded_inter[1, 0].surface_friction.get_params()["shared"], shared)
+                if shared == "off":  # the beads in 2 and 3 shells feel nothing
+                    np.testing.assert_array_equal(np.asarray(p.f)[3:6], 0.0)
+                # the virial of the scaled pairs
+                st = s.analysis.dpd_stress_split()
+                tot = np.asarray(st["friction"]) + np.asarray(st["noise"])
+                x = np.asarray(p.pos)  # sum over pairs (x_c - x_b) (x) F_cb = sum_k x_k (x) f_k
+                vir = np.einsum("ka,kb->ab", x, f) / s.volume()
+                np.testing.assert_allclose(tot.reshape(3, 3), vir, rtol=0, atol=1e-12 * np.max(np.abs(vir)))
+        # "full" is the kernel without the option
+        s = self.shared_scene("full", 0.4)
+        s.non_bonded_inter[1, 0].surface_friction.set_params(**self.SH_PRM)
+        self.assertEqual(s.non_bonded_inter[1, 0].surface_friction.get_params()["shared"], "full")
+
+    def test_shared_conservation(self):
+        """split and off with noise, VV and Shardlow: P and L to 1e-12 over 300 steps."""
+        for shared, shardlow in itertools.product(("split", "off"), (False, True)):
+            with self.subTest(shared=shared, shardlow=shardlow):
+                s = self.shared_scene(shared, 1.0, shardlow=shardlow, L=30.0)
+                s.time_step = 0.002
+                p = s.part.all()
+
+                def momenta():
+                    m = np.asarray(p.mass)[:, None]
+                    x, v = np.asarray(p.pos), np.asarray(p.v)
+                    return np.sum(m * v, axis=0), (np.sum(np.cross(x, m * v), axis=0)
+                                                   + np.sum(np.asarray(p.rinertia) * np.asarray(p.omega_lab), axis=0))
+                P0, L0 = momenta()
+                w0 = np.asarray(p.omega_lab).copy()
+                s.integrator.run(300)
+                P1, L1 = momenta()
+                self.assertGreater(np.max(np.abs(np.asarray(p.omega_lab) - w0)), 1e-2)
+                np.testing.assert_allclose(P1, P0, rtol=0, atol=1e-12)
+                np.testing.assert_allclose(L1, L0, rtol=0, atol=1e-12 * max(1.0, np.max(np.abs(L0))))
+
+    def test_shared_shardlow_step(self):
+        """Shardlow at kT = 0: a bead only in shells with "off" keeps its velocity."""
+        s = self.shared_scene("off", 0.0, shardlow=True)
+        p = s.part.all()
+        v0 = np.asarray(p.v).copy()
+        s.integrator.run(1)
+        v1 = np.asarray(p.v)
+        np.testing.assert_allclose(v1[3:6], v0[3:6], rtol=0, atol=1e-12)
+        self.assertGreater(np.max(np.abs(v1[6:9] - v0[6:9])), 1e-3)
+
     def test_bad_input(self):
         s = marble.System(box_l=[5] * 3)
         ia = s.non_bonded_inter
@@ -221,6 +336,17 @@ class SurfaceFriction(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "a1 == a2"):
             ia[1, 1].surface_friction.set_params(gamma=1.0, r_cut=0.3, a1=1.0, a2=0.5)
         self.assertEqual(ia[1, 1].surface_friction.get_params(), {})
+        with self.assertRaisesRegex(ValueError, "shared"):
+            ia[1, 0].surface_friction.set_params(gamma=1.0, r_cut=0.3, a1=1.0, shared="half")
+        self.assertEqual(ia[1, 0].surface_friction.get_params(), {})
+        import marble.suspensions as sus
+        for kw, key in ((dict(boundary="stick", shared="half"), "shared"),
+                        (dict(boundary="stick", stick_shell=0.0), "stick_shell"),
+                        (dict(shared="off"), "shared"), (dict(stick_shell=0.1), "stick_shell")):
+            s2 = marble.System(box_l=[6] * 3)
+            with self.assertRaisesRegex(ValueError, key):
+                sus.setup_suspension(s2, phi=0.05, radius=1.0, seed=1, **kw)
+            self.assertEqual(len(s2.part.all()), 0)
 
 
 if __name__ == "__main__":

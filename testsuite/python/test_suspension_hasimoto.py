@@ -30,29 +30,15 @@ from marble import theory
 if not marble.has_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE"):
     pytest.skip("needs DPD, HAT, CONTACT, LUBRICATION, MASS, EXTERNAL_FORCE", allow_module_level=True)
 
-sus = marble.suspensions
-R, KT, PHI, DT, F, T = 1.0, 0.1, 0.05, 0.01, 0.5, 4000.0
-ETA, ETA_ERR = 0.3227, 0.0069  # reverse Poiseuille at the same solvent settings and dt
+from suspension_common import ETA, ETA_ERR, KT, L, PHI, R, drag_D, single_colloid
+
+T = 4000.0
 
 
 def test_one_colloid_at_phi_005_diffuses_as_hasimoto_slip():
-    from marble.diffusion import measure_drag
-    L = (4.0 * math.pi * R ** 3 / (3.0 * PHI)) ** (1.0 / 3.0)
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = DT
-    s.cell_system.skin = 0.4
-    info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=4.5, eta=0.3, seed=5,
-                                positions=[[L / 2] * 3])
+    s, info = single_colloid(5)
     assert info["phi"] == pytest.approx(PHI)
-    s.integrator.set_shardlow()
-    p = s.part.all()
-    v, m = np.asarray(p.v), np.asarray(p.mass)
-    p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
-    s.integrator.run(int(round(20 / DT)))
-    res = measure_drag(s, info["colloid_ids"], force=[F, 0, 0], steps=int(round(T / DT)),
-                       equilibration_steps=int(round(20 / DT)), delta_N=10, kT=KT)
-    D = res.D
-    D_err = max(res.D_err, KT * math.sqrt(2 * max(D, 0.0) / T) / F)
+    D, D_err = drag_D(s, info, T)
     rel = math.hypot(D_err / D, ETA_ERR / ETA)
     slip = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="slip")
     stick = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="stick")

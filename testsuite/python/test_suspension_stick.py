@@ -26,29 +26,15 @@ if not marble.has_features("DPD", "TRANS_DPD", "ROTATION", "HAT", "CONTACT", "LU
     pytest.skip("needs DPD, TRANS_DPD, ROTATION, HAT, CONTACT, LUBRICATION, MASS, EXTERNAL_FORCE",
                 allow_module_level=True)
 
-sus = marble.suspensions
-R, KT, PHI, DT, F, T = 1.0, 0.1, 0.05, 0.01, 0.5, 3000.0
-ETA, ETA_ERR = 0.3227, 0.0069  # reverse Poiseuille at the same solvent settings and dt
+from suspension_common import ETA, ETA_ERR, KT, L, R, drag_D, single_colloid
+
+T = 3000.0
 
 
 def test_stick_colloid_diffuses_as_hasimoto_stick_and_rotates_at_kT():
-    from marble.diffusion import measure_drag
-    L = (4.0 * math.pi * R ** 3 / (3.0 * PHI)) ** (1.0 / 3.0)
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = DT
-    s.cell_system.skin = 0.4
-    info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=4.5, eta=0.3, seed=7,
-                                positions=[[L / 2] * 3], boundary="stick")
+    s, info = single_colloid(7, boundary="stick")
     assert info["rinertia"] == pytest.approx(0.4 * info["colloid_mass"] * R * R)
-    s.integrator.set_shardlow()
-    p = s.part.all()
-    v, m = np.asarray(p.v), np.asarray(p.mass)
-    p.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
-    s.integrator.run(int(round(20 / DT)))
-    res = measure_drag(s, info["colloid_ids"], force=[F, 0, 0], steps=int(round(T / DT)),
-                       equilibration_steps=int(round(20 / DT)), delta_N=10, kT=KT)
-    D = res.D
-    D_err = max(res.D_err, KT * math.sqrt(2 * max(D, 0.0) / T) / F)
+    D, D_err = drag_D(s, info, T)
     rel = math.hypot(D_err / D, ETA_ERR / ETA)
     stick = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="stick")
     slip = D / theory.hasimoto_D(ETA, R, L, kT=KT, boundary="slip")

@@ -45,7 +45,7 @@ DPDStress System::dpd_stress() {
 #ifdef TRANS_DPD
   // the stick friction (nonbonded/surface_friction.hpp), with the same convention
   if (m_ia.any_active<SurfaceFriction>())
-    surface_friction_virial(m_ps, m_cells.pairs(), m_ia, noise, V, out.friction, out.noise);
+    surface_friction_virial(m_ps, m_cells, m_ia, noise, V, m_comm.parallel(), out.friction, out.noise);
 #endif
   m_comm.sum_inplace(out.friction.data(), 9);
   m_comm.sum_inplace(out.noise.data(), 9);

@@ -76,6 +76,9 @@ void shardlow_sweep(System &sys) {
   std::array<Vector3d, kPairBlock> xi;
 #ifdef TRANS_DPD
   bool const any_sf = ia.any_active<SurfaceFriction>();
+  // shared shells (one rank: positions fixed during the sweep)
+  std::vector<int> const sf_shells =
+      any_sf ? surface_friction_shells(ps, sys.cells(), ia, false) : std::vector<int>{};
 #endif
 #ifdef LUBRICATION
   std::array<Vector3d, kPairBlock> xi_lub;
@@ -148,7 +151,8 @@ void shardlow_sweep(System &sys) {
       if (any_sf) {
         SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
         if (sp.active)
-          surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise);
+          surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise,
+                                       surface_friction_scale(sp, sf_shells, i, j));
       }
 #endif
 #ifdef LUBRICATION

@@ -7,6 +7,7 @@
 //   - the virial sum d (x) F_i for System::dpd_stress() (friction and noise).
 // Without ROTATION the spins are zero and the torques are dropped (the kernel
 // then acts like a tangential DPD friction on the contact point at rest).
+#include "cells/CellSystem.hpp"
 #include "config/features.hpp"
 #include "forces/pair_traversal.hpp"
 #include "nonbonded/InteractionTable.hpp"
@@ -14,8 +15,10 @@
 #include "particles/ParticleStore.hpp"
 #include "thermostats/NoiseContext.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace Marble {
 
@@ -56,13 +59,65 @@ void for_each_surface_friction_pair(ParticleStore const &ps, PairList const &pai
   });
 }
 
+/**
+ * Shared shells (surface_friction.hpp, option shared): the number of shells
+ * holding each particle (list index), n_k = the active pairs (k, s) with w > 0
+ * whose partner s has a radius > 0. Empty (every pair n = 1) unless some
+ * active pair has shared != "full". Complete for ghosts too: serially every
+ * ghost is an image of a local (counted on the owner); with several ranks the
+ * counts go through the ghost exchange (each pair is listed on one rank).
+ * Depends on positions only (fixed during a Shardlow sweep and a force pass).
+ */
+inline std::vector<int> surface_friction_shells(ParticleStore const &ps, CellSystem const &cells, InteractionTable const &ia,
+                                                bool parallel) {
+  std::vector<int> n;
+  bool any_shared = false;
+  for (int t1 = 0; t1 < ia.n_types(); ++t1)
+    for (int t2 = 0; t2 < ia.n_types(); ++t2) {
+      auto const &p = ia.get(t1, t2).get<SurfaceFriction>();
+      any_shared = any_shared || (p.active && p.shared != SurfaceFriction::shared_full);
+    }
+  if (!any_shared)
+    return n;
+  int const nl = ps.n_local();
+  auto owner = [&](int k) { return k < nl ? k : ps.ghost_owner[k - nl]; };
+  std::vector<Utils::Vector3d> c(static_cast<std::size_t>(ps.size()));
+  for_each_surface_friction_pair(ps, cells.pairs(), ia, [&](int i, int j, Utils::Vector3d const &, double,
+                                                            SurfaceFriction::Params const &p) {
+    if (p.a1 > 0.)
+      c[parallel ? j : owner(j)][0] += 1.;
+    if (p.a2 > 0.)
+      c[parallel ? i : owner(i)][0] += 1.;
+  });
+  if (parallel) {
+    cells.reduce_ghost_values(ps, c);
+    cells.fill_ghost_values(ps, c);
+  }
+  n.resize(c.size());
+  for (std::size_t k = 0; k < c.size(); ++k)
+    n[k] = static_cast<int>(std::lround(c[parallel ? k : static_cast<std::size_t>(owner(static_cast<int>(k)))][0]));
+  return n;
+}
+
+/** The shared-shell factor of the pair (i, j) (1 if @p shells is empty). */
+inline double surface_friction_scale(SurfaceFriction::Params const &p, std::vector<int> const &shells, int i, int j) {
+  if (shells.empty())
+    return 1.;
+  return SurfaceFriction::shared_scale(p, SurfaceFriction::pair_shells(p, shells[i], shells[j]));
+}
+
 /** Explicit forces and torques (with the noise of @p noise) on locals and ghosts. */
-inline void add_surface_friction_forces(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
-                                        NoiseContext const &noise) {
-  for_each_surface_friction_pair(ps, pairs, ia, [&](int i, int j, Utils::Vector3d const &d, double r,
-                                                    SurfaceFriction::Params const &p) {
+inline void add_surface_friction_forces(ParticleStore &ps, CellSystem const &cells, InteractionTable const &ia,
+                                        NoiseContext const &noise, bool parallel) {
+  std::vector<int> const shells = surface_friction_shells(ps, cells, ia, parallel);
+  for_each_surface_friction_pair(ps, cells.pairs(), ia, [&](int i, int j, Utils::Vector3d const &d, double r,
+                                                            SurfaceFriction::Params const &p) {
+    double const scale = surface_friction_scale(p, shells, i, j);
+    if (scale <= 0.)
+      return;
     Utils::Vector3d const xi = pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]);
-    auto const out = SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), xi);
+    auto const out =
+        SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), xi, scale);
     ps.f[i] += out.f_i;
     ps.f[j] -= out.f_i;
 #ifdef ROTATION
@@ -73,15 +128,20 @@ inline void add_surface_friction_forces(ParticleStore &ps, PairList const &pairs
 }
 
 /** Virial sums d (x) F_i / V of the friction and the noise (added to @p fric, @p nse). */
-inline void surface_friction_virial(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
-                                    NoiseContext const &noise, double V, std::array<double, 9> &fric,
+inline void surface_friction_virial(ParticleStore const &ps, CellSystem const &cells, InteractionTable const &ia,
+                                    NoiseContext const &noise, double V, bool parallel, std::array<double, 9> &fric,
                                     std::array<double, 9> &nse) {
   Utils::Vector3d const zero{};
-  for_each_surface_friction_pair(ps, pairs, ia, [&](int i, int j, Utils::Vector3d const &d, double r,
-                                                    SurfaceFriction::Params const &p) {
+  std::vector<int> const shells = surface_friction_shells(ps, cells, ia, parallel);
+  for_each_surface_friction_pair(ps, cells.pairs(), ia, [&](int i, int j, Utils::Vector3d const &d, double r,
+                                                            SurfaceFriction::Params const &p) {
+    double const scale = surface_friction_scale(p, shells, i, j);
+    if (scale <= 0.)
+      return;
     Utils::Vector3d const xi = pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]);
-    auto const ff = SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), zero);
-    auto const fn = SurfaceFriction::force(p, d, r, zero, zero, zero, xi);
+    auto const ff =
+        SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), zero, scale);
+    auto const fn = SurfaceFriction::force(p, d, r, zero, zero, zero, xi, scale);
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         fric[3 * a + b] += d[a] * ff.f_i[b] / V;
@@ -97,10 +157,13 @@ inline void surface_friction_virial(ParticleStore const &ps, PairList const &pai
  * (perpendicular to e) on i changes the tangential contact velocity by J/mu_t,
  * so u_t' = a u_t + sqrt(kT/mu_t (1 - a^2)) sqrt(12) P xi, a = exp(-gamma w^2
  * dt/mu_t), and J = mu_t (u_t' - u_t) goes to i (-J to j) with the torques
- * -lam d x J. @p oi, @p oj are the owners (locals) of list entries i, j.
+ * -lam d x J. @p oi, @p oj are the owners (locals) of list entries i, j;
+ * @p scale the shared-shell factor of gamma (surface_friction_scale()).
  */
 inline void surface_friction_pair_update(ParticleStore &ps, SurfaceFriction::Params const &p, int i, int j, int oi,
-                                         int oj, double kT, double dt, NoiseContext const &noise) {
+                                         int oj, double kT, double dt, NoiseContext const &noise, double scale = 1.) {
+  if (scale <= 0.)
+    return;
   Utils::Vector3d const d = ps.pos[i] - ps.pos[j];
   double const r2 = d.norm2();
   if (!(r2 > 0.))
@@ -117,7 +180,7 @@ inline void surface_friction_pair_update(ParticleStore &ps, SurfaceFriction::Par
   Utils::Vector3d const u =
       SurfaceFriction::contact_velocity(p, d, ps.v[oi] - ps.v[oj], detail::spin(ps, oi), detail::spin(ps, oj));
   Utils::Vector3d const ut = u - (e * u) * e;
-  double const a = std::exp(-p.gamma * w * w * dt * inv_mu);
+  double const a = std::exp(-p.gamma * scale * w * w * dt * inv_mu);
   Utils::Vector3d du = (a - 1.) * ut;
   if (kT > 0.) {
     Utils::Vector3d const xi = pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]);

@@ -97,7 +97,7 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
   // the rotational pair kernel (stick friction) on the main list's pairs: its
   // own pass (spins and torques), explicit unless Shardlow updates it
   if (with_thermostat && m_thermo.dpd.active && m_dpd_in_pair_loop && m_ia.any_active<SurfaceFriction>())
-    add_surface_friction_forces(m_ps, m_cells.pairs(), m_ia, noise_context(true));
+    add_surface_friction_forces(m_ps, m_cells, m_ia, noise_context(true), m_comm.parallel());
 #endif
 #ifdef MARBLE
   if (m_colloids.any()) {

@@ -114,7 +114,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                      f_contact=None, delta=0.001, lubrication=True, h_cut=None, h_min=0.001,
                      log_term="off", morse=None, colloid_dpd=True,
                      solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
-                     boundary="slip", trans_gamma=None, rinertia=None):
+                     boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
@@ -134,6 +134,11 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       friction ``trans_gamma``, default 45, on the same shell, relative velocity of
       the colloid's rigid-body motion at the bead, torques on the colloid; needs
       TRANS_DPD and ROTATION): no-slip spheres of radius R (section 7c).
+      ``shared`` (stick only): the kernel's treatment of a bead inside the
+      friction shells of several colloids: ``"full"`` (default: gamma with each),
+      ``"split"`` (gamma/n with each of n) or ``"off"`` (none).
+      ``stick_shell`` (stick only): the shell's thickness on the gap (default
+      the colloid-solvent DPD cutoff r'_c).
     - The DPD thermostat at ``kT`` with ``seed``.
 
     The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
@@ -148,10 +153,16 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     """
     if boundary not in ("slip", "stick"):
         raise ValueError(f"parameter 'boundary' must be 'slip' or 'stick', got {boundary!r}")
-    if boundary == "slip" and (trans_gamma is not None or rinertia is not None):
-        raise ValueError("parameters 'trans_gamma' and 'rinertia' apply to boundary='stick' only")
+    if boundary == "slip" and any(x is not None for x in (trans_gamma, rinertia, shared, stick_shell)):
+        raise ValueError("parameters 'trans_gamma', 'rinertia', 'shared' and 'stick_shell' apply to "
+                         "boundary='stick' only")
     if boundary == "stick":
         trans_gamma = 45.0 if trans_gamma is None else _positive("trans_gamma", trans_gamma, allow_zero=True)
+        shared = "full" if shared is None else shared
+        if shared not in ("full", "split", "off"):
+            raise ValueError(f"parameter 'shared' must be 'full', 'split' or 'off', got {shared!r}")
+        if stick_shell is not None:
+            stick_shell = _positive("stick_shell", stick_shell)
     assert_features("DPD", "HAT", "CONTACT", "MASS")
     if boundary == "stick":
         assert_features("TRANS_DPD", "ROTATION")
@@ -251,7 +262,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         if colloid_dpd:
             ia[c, c].dpd.set_params(weight_function=1, gamma=gamma, r_cut=r_cut, offset=2 * R)
     if boundary == "stick" and trans_gamma > 0:
-        ia[c, s].surface_friction.set_params(gamma=trans_gamma, r_cut=rp, a1=R, a2=0.0)
+        ia[c, s].surface_friction.set_params(gamma=trans_gamma, r_cut=rp if stick_shell is None else stick_shell,
+                                             a1=R, a2=0.0, shared=shared)
     ia[c, c].contact.set_params(f_contact=f_contact, delta=delta, offset=2 * R)
     if lubrication:
         ia[c, c].lubrication.set_params(eta=eta, a1=R, a2=R, h_cut=h_cut, h_min=h_min,
@@ -264,4 +276,5 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
                 diffusion_time=diffusion_time(R, eta, kT) if (eta and kT > 0) else math.inf,
-                boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia)
+                boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia, shared=shared,
+                stick_shell=(rp if stick_shell is None else stick_shell) if boundary == "stick" else None)
