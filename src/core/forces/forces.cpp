@@ -96,7 +96,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
   // gather, noise, forces and scatter of the n selected pairs in bij / B
-  auto process = [&](int n) {
+  auto process = [&](int n, bool long_runs) {
     if (dpd) {
       pair_block_gather_dpd(bij.data(), n, vel4, pid, B, lo.data(), hi.data(), sign.data());
       if constexpr (mass)
@@ -105,20 +105,22 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
       pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
     pair_block_forces(sp, mass, n, B);
-    pair_block_scatter(bij.data(), n, B, f4); // f_i += f, f_j -= f, pair by pair in list order
+    pair_block_scatter(bij.data(), n, B, f4, long_runs); // f_i += f, f_j -= f, pair by pair in list order
   };
   // the rows, read in place (r_i once per row), then the extra pairs
   RowCursor cur;
   int const n_rows = pairs.n_rows();
   while (cur.i < n_rows) {
+    int const i0 = cur.i;
     int const n = pair_rows_select(pairs.row_start.data(), pairs.j.data(), n_rows, cur, kSelectLimit, pos, typ,
                                    cut2_table.data(), nt, bij.data(), B);
-    process(n);
+    // more than ~12 selected pairs per row: long runs of one i (scatter)
+    process(n, n > 12 * (cur.i - i0 + 1));
   }
   std::size_t const n_extra = pairs.extra.size();
   for (std::size_t b0 = 0; b0 < n_extra; b0 += kPairBlock) {
     int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_extra - b0));
-    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2_table.data(), nt, bij.data(), B));
+    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2_table.data(), nt, bij.data(), B), false);
   }
   auto *const frc = ps.f.data();
   for (int i = 0; i < n_all; ++i) {

@@ -442,32 +442,63 @@ __attribute__((target("avx2"))) void gather_dpd_avx2(std::array<int, 2> const *_
 }
 
 /** scatter_scalar four pairs at a time: the forces transposed into
- * (fx, fy, fz, 0) records, then per pair one 256-bit add to f4[i] and one
- * subtract from f4[j], in list order (lane by lane the scalar operations). No
- * branch: the sum on i goes through memory pair by pair, the same additions
- * in the same order as a sum in registers over a run of one i. */
+ * (fx, fy, fz, 0) records, then per pair one 256-bit add to f_i and one
+ * subtract from f4[j], in list order (lane by lane the scalar operations).
+ * RegI = false: f_i through memory pair by pair, no branch (short runs of
+ * one i, as in a DPD fluid: the branch on a run's end would be mispredicted
+ * every ~6 pairs); RegI = true: f_i summed in a register over a run of one i
+ * (long runs, as in LJ at r_c = 2.5: through memory, each addition waits on
+ * the last one's store). The same additions in the same order either way (no
+ * j of a run is its i). */
+/** One pair of scatter_avx2 (its force @p f as an (x, y, z, 0) record). */
+template <bool RegI>
+__attribute__((target("avx2"), always_inline)) inline void scatter_one(std::array<int, 2> const *__restrict bij,
+                                                                       int q, __m256d f, Force4 *__restrict f4,
+                                                                       int &ci, __m256d &fi) {
+  int const i = bij[q][0];
+  if constexpr (RegI) {
+    if (i != ci) {
+      _mm256_store_pd(f4[ci].v, fi);
+      ci = i, fi = _mm256_load_pd(f4[i].v);
+    }
+    fi = _mm256_add_pd(fi, f);
+  } else {
+    double *const pi = f4[i].v;
+    _mm256_store_pd(pi, _mm256_add_pd(_mm256_load_pd(pi), f));
+  }
+  double *const pj = f4[bij[q][1]].v;
+  _mm256_store_pd(pj, _mm256_sub_pd(_mm256_load_pd(pj), f));
+}
+
+template <bool RegI>
 __attribute__((target("avx2"))) void scatter_avx2(std::array<int, 2> const *__restrict bij, int n,
                                                   PairBlockSoA const &B, Force4 *__restrict f4) {
+  if (n == 0)
+    return;
   int s = 0;
   __m256d const zero = _mm256_setzero_pd();
+  int ci = bij[0][0];
+  __m256d fi = RegI ? _mm256_load_pd(f4[ci].v) : zero;
   for (; s + 4 <= n; s += 4) {
     __m256d const fx = _mm256_load_pd(B.fx + s), fy = _mm256_load_pd(B.fy + s), fz = _mm256_load_pd(B.fz + s);
     __m256d const t0 = _mm256_unpacklo_pd(fx, fy), t1 = _mm256_unpackhi_pd(fx, fy); // x0 y0 x2 y2 / x1 y1 x3 y3
     __m256d const t2 = _mm256_unpacklo_pd(fz, zero), t3 = _mm256_unpackhi_pd(fz, zero); // z0 0 z2 0 / z1 0 z3 0
-    __m256d const f[4] = {_mm256_permute2f128_pd(t0, t2, 0x20), _mm256_permute2f128_pd(t1, t3, 0x20),
-                          _mm256_permute2f128_pd(t0, t2, 0x31), _mm256_permute2f128_pd(t1, t3, 0x31)};
-    for (int l = 0; l < 4; ++l) {
-      double *const pi = f4[bij[s + l][0]].v, *const pj = f4[bij[s + l][1]].v;
-      _mm256_store_pd(pi, _mm256_add_pd(_mm256_load_pd(pi), f[l]));
-      _mm256_store_pd(pj, _mm256_sub_pd(_mm256_load_pd(pj), f[l]));
-    }
+    scatter_one<RegI>(bij, s, _mm256_permute2f128_pd(t0, t2, 0x20), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 1, _mm256_permute2f128_pd(t1, t3, 0x20), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 2, _mm256_permute2f128_pd(t0, t2, 0x31), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 3, _mm256_permute2f128_pd(t1, t3, 0x31), f4, ci, fi);
   }
-  for (; s < n; ++s) {
-    __m256d const f = _mm256_set_pd(0., B.fz[s], B.fy[s], B.fx[s]);
-    double *const pi = f4[bij[s][0]].v, *const pj = f4[bij[s][1]].v;
-    _mm256_store_pd(pi, _mm256_add_pd(_mm256_load_pd(pi), f));
-    _mm256_store_pd(pj, _mm256_sub_pd(_mm256_load_pd(pj), f));
-  }
+  for (; s < n; ++s)
+    scatter_one<RegI>(bij, s, _mm256_set_pd(0., B.fz[s], B.fy[s], B.fx[s]), f4, ci, fi);
+  if constexpr (RegI)
+    _mm256_store_pd(f4[ci].v, fi);
+}
+
+void scatter_avx2_pairs(std::array<int, 2> const *bij, int n, PairBlockSoA const &B, Force4 *f4) {
+  scatter_avx2<false>(bij, n, B, f4);
+}
+void scatter_avx2_runs(std::array<int, 2> const *bij, int n, PairBlockSoA const &B, Force4 *f4) {
+  scatter_avx2<true>(bij, n, B, f4);
 }
 #endif
 
@@ -507,10 +538,12 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
   return rows_select_scalar<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
 }
 
-void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4) {
+void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4, bool long_runs) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
-    return scatter_avx2(bij, n, b, f4);
+    return long_runs ? scatter_avx2_runs(bij, n, b, f4) : scatter_avx2_pairs(bij, n, b, f4);
+#else
+  (void)long_runs;
 #endif
   scatter_scalar(bij, n, b, f4);
 }
@@ -519,7 +552,7 @@ std::vector<PairScatterPath> pair_scatter_paths() {
   std::vector<PairScatterPath> out{{"scalar", &scatter_scalar}};
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
-    out.push_back({"avx2", &scatter_avx2});
+    out.push_back({"avx2", &scatter_avx2_pairs}), out.push_back({"avx2_runs", &scatter_avx2_runs});
 #endif
   return out;
 }

@@ -93,8 +93,11 @@ void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Rec4 const *vel
 /** Add the forces b.fx/fy/fz of the selected pairs bij[0 .. n) into @p f4:
  * per pair, in list order, f4[i] += f and f4[j] -= f, component by component:
  * the additions of the scalar loop in its order, so the same bits. With AVX2
- * the three components in one 256-bit lane set (lane 3 stays 0). */
-void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4);
+ * the three components in one 256-bit lane set (lane 3 stays 0), f_i summed
+ * in a register over a run of one i where @p long_runs (e.g. LJ at r_c =
+ * 2.5), else through memory with no branch (DPD: runs of ~6 pairs). */
+void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4,
+                        bool long_runs = false);
 
 /** Every code path of pair_block_scatter this CPU has (tests). */
 struct PairScatterPath {
