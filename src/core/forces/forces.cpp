@@ -41,12 +41,42 @@ constexpr unsigned simd_kernels() {
  * arrays (~13 arrays of this length) then stay in the L1 cache. */
 constexpr int kSelectLimit = 192;
 
+/** The SIMD loop's private force buffer (Force4 records, zero between calls). */
+std::vector<Force4> &force4_buffer() {
+  thread_local std::vector<Force4> buf;
+  return buf;
+}
+
+/** The SIMD loop's copy of the velocities (Rec4 records, lane 3 zero). */
+std::vector<Rec4> &vel4_buffer() {
+  thread_local std::vector<Rec4> buf;
+  return buf;
+}
+
 void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
                     NoiseContext const &th, SimdPairParams const &sp) {
   auto const *__restrict const pos = ps.pos.data();
-  auto const *__restrict const vel = ps.v.data();
   auto const *__restrict const pid = ps.id.data();
-  auto *const frc = ps.f.data();
+  // forces summed in 32-byte records (zero on entry: the same additions onto
+  // the same zeros as in ps.f), copied to ps.f at the end, which needs no
+  // zeroing of its own; the copy leaves the buffer zero for the next call
+  auto &f4buf = force4_buffer();
+  int const n_all = ps.size();
+  if (static_cast<int>(f4buf.size()) < n_all)
+    f4buf.resize(static_cast<std::size_t>(n_all), Force4{});
+  Force4 *const f4 = f4buf.data();
+  // the velocities as 32-byte records for the DPD gather
+  auto &v4buf = vel4_buffer();
+  Rec4 const *vel4 = nullptr;
+  if (sp.dpd) {
+    if (static_cast<int>(v4buf.size()) < n_all)
+      v4buf.resize(static_cast<std::size_t>(n_all), Rec4{});
+    auto const *const v = ps.v.data();
+    Rec4 *const w = v4buf.data();
+    for (int i = 0; i < n_all; ++i)
+      w[i].v[0] = v[i][0], w[i].v[1] = v[i][1], w[i].v[2] = v[i][2];
+    vel4 = w;
+  }
 #if defined(DPD_MASS_RED) || defined(DPD_MASS_LIN)
   constexpr bool mass = true;
 #else
@@ -66,42 +96,37 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
   // gather, noise, forces and scatter of the n selected pairs in bij / B
-  auto process = [&](int n) {
+  auto process = [&](int n, bool long_runs) {
     if (dpd) {
-      pair_block_gather_dpd(bij.data(), n, vel, pid, B, lo.data(), hi.data(), sign.data());
+      pair_block_gather_dpd(bij.data(), n, vel4, pid, B, lo.data(), hi.data(), sign.data());
       if constexpr (mass)
         for (int s = 0; s < n; ++s)
           B.m[s] = pair_mass_factor(ps, bij[s][0], bij[s][1]);
       pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
     pair_block_forces(sp, mass, n, B);
-    // scatter: f_i summed in registers over the run of pairs of one i (no j
-    // of the run is i), f_j subtracted pair by pair, in list order
-    for (int s = 0; s < n;) {
-      int const i = bij[s][0];
-      double fix = frc[i][0], fiy = frc[i][1], fiz = frc[i][2];
-      do {
-        double const fx = B.fx[s], fy = B.fy[s], fz = B.fz[s];
-        fix += fx, fiy += fy, fiz += fz;
-        auto &fj = frc[bij[s][1]];
-        fj[0] -= fx, fj[1] -= fy, fj[2] -= fz;
-        ++s;
-      } while (s < n && bij[s][0] == i);
-      frc[i][0] = fix, frc[i][1] = fiy, frc[i][2] = fiz;
-    }
+    pair_block_scatter(bij.data(), n, B, f4, long_runs); // f_i += f, f_j -= f, pair by pair in list order
   };
   // the rows, read in place (r_i once per row), then the extra pairs
   RowCursor cur;
   int const n_rows = pairs.n_rows();
   while (cur.i < n_rows) {
+    int const i0 = cur.i;
     int const n = pair_rows_select(pairs.row_start.data(), pairs.j.data(), n_rows, cur, kSelectLimit, pos, typ,
                                    cut2_table.data(), nt, bij.data(), B);
-    process(n);
+    // more than ~12 selected pairs per row: long runs of one i (scatter)
+    process(n, n > 12 * (cur.i - i0 + 1));
   }
   std::size_t const n_extra = pairs.extra.size();
   for (std::size_t b0 = 0; b0 < n_extra; b0 += kPairBlock) {
     int const nb = static_cast<int>(std::min<std::size_t>(kPairBlock, n_extra - b0));
-    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2_table.data(), nt, bij.data(), B));
+    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2_table.data(), nt, bij.data(), B), false);
+  }
+  auto *const frc = ps.f.data();
+  for (int i = 0; i < n_all; ++i) {
+    double *const r = f4[i].v;
+    frc[i][0] = r[0], frc[i][1] = r[1], frc[i][2] = r[2];
+    r[0] = r[1] = r[2] = 0.;
   }
 }
 
@@ -113,8 +138,10 @@ void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const 
   if constexpr ((Mask & simd_kernels()) != 0) {
     SimdPairParams sp;
     if (simd_scene_params(ia, Mask, sp))
-      return pair_loop_simd(ps, pairs, ia, th, sp);
+      return pair_loop_simd(ps, pairs, ia, th, sp); // writes every force
   }
+  for (auto &f : ps.f)
+    f = {};
   auto const *const pos = ps.pos.data();
   auto const *const vel = ps.v.data();
   auto *const frc = ps.f.data();
@@ -152,8 +179,7 @@ constexpr auto loops = make_loops(std::make_index_sequence<std::size_t{1} << n_p
 
 void System::compute_forces(bool with_thermostat) {
   ensure_lists();
-  for (auto &f : m_ps.f)
-    f = {};
+  // the pair loop sets every force (m_ps.f need not be zeroed here)
 #ifdef ROTATION
   for (auto &t : m_ps.torque)
     t = {};

@@ -223,19 +223,30 @@ int select_scalar_one_type(std::array<int, 2> const *blk, int nb, Utils::Vector3
 }
 
 /** pair_block_gather_dpd, scalar, from pair @p s0 on. */
-void gather_dpd_scalar_from(int s0, std::array<int, 2> const *__restrict bij, int n,
-                            Utils::Vector3d const *__restrict vel, int const *__restrict pid, PairBlockSoA &B,
-                            std::uint32_t *__restrict lo, std::uint32_t *__restrict hi, double *__restrict sign) {
+void gather_dpd_scalar_from(int s0, std::array<int, 2> const *__restrict bij, int n, Rec4 const *__restrict vel,
+                            int const *__restrict pid, PairBlockSoA &B, std::uint32_t *__restrict lo,
+                            std::uint32_t *__restrict hi, double *__restrict sign) {
   for (int s = s0; s < n; ++s) {
     int const i = bij[s][0], j = bij[s][1];
-    B.vx[s] = vel[i][0] - vel[j][0], B.vy[s] = vel[i][1] - vel[j][1], B.vz[s] = vel[i][2] - vel[j][2];
+    double const *const vi = vel[i].v, *const vj = vel[j].v;
+    B.vx[s] = vi[0] - vj[0], B.vy[s] = vi[1] - vj[1], B.vz[s] = vi[2] - vj[2];
     order_pair_ids(pid[i], pid[j], lo[s], hi[s], sign[s]);
   }
 }
 
-void gather_dpd_scalar(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
-                       PairBlockSoA &B, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
+void gather_dpd_scalar(std::array<int, 2> const *bij, int n, Rec4 const *vel, int const *pid, PairBlockSoA &B,
+                       std::uint32_t *lo, std::uint32_t *hi, double *sign) {
   gather_dpd_scalar_from(0, bij, n, vel, pid, B, lo, hi, sign);
+}
+
+/** pair_block_scatter, scalar (the reference for the AVX2 one). */
+void scatter_scalar(std::array<int, 2> const *__restrict bij, int n, PairBlockSoA const &B, Force4 *__restrict f4) {
+  for (int s = 0; s < n; ++s) {
+    double *const fi = f4[bij[s][0]].v, *const fj = f4[bij[s][1]].v;
+    double const fx = B.fx[s], fy = B.fy[s], fz = B.fz[s];
+    fi[0] += fx, fi[1] += fy, fi[2] += fz;
+    fj[0] -= fx, fj[1] -= fy, fj[2] -= fz;
+  }
 }
 
 /** pair_rows_select, scalar (the reference for the AVX2 one). */
@@ -395,30 +406,29 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
   return n;
 }
 
-/** gather_dpd_scalar four pairs at a time: v_i of a run broadcast, the four
- * v_j transposed into lanes (the same subtractions), the ids ordered by
- * unsigned min/max and the sign +1 where id_i < id_j, else -1 (exact). */
+/** gather_dpd_scalar four pairs at a time, with no branch: the records of
+ * v_i and v_j (one aligned 256-bit load each), subtracted record by record
+ * (lanes 0-2: the scalar subtractions), transposed into lanes; the ids
+ * ordered by unsigned min/max and the sign +1 where id_i < id_j, else -1
+ * (exact). */
 __attribute__((target("avx2"))) void gather_dpd_avx2(std::array<int, 2> const *__restrict bij, int n,
-                                                     Utils::Vector3d const *__restrict vel,
-                                                     int const *__restrict pid, PairBlockSoA &B,
-                                                     std::uint32_t *__restrict lo, std::uint32_t *__restrict hi,
-                                                     double *__restrict sign) {
+                                                     Rec4 const *__restrict vel, int const *__restrict pid,
+                                                     PairBlockSoA &B, std::uint32_t *__restrict lo,
+                                                     std::uint32_t *__restrict hi, double *__restrict sign) {
   int s = 0;
   __m128i const one = _mm_set1_epi32(1), two = _mm_set1_epi32(2);
   for (; s + 4 <= n; s += 4) {
     int const i0 = bij[s][0], i1 = bij[s + 1][0], i2 = bij[s + 2][0], i3 = bij[s + 3][0];
     int const j0 = bij[s][1], j1 = bij[s + 1][1], j2 = bij[s + 2][1], j3 = bij[s + 3][1];
-    __m256d xi, yi, zi, xj, yj, zj;
-    if (i0 == i3 && i1 == i0 && i2 == i0) {
-      xi = _mm256_broadcast_sd(&vel[i0][0]), yi = _mm256_broadcast_sd(&vel[i0][1]);
-      zi = _mm256_broadcast_sd(&vel[i0][2]);
-    } else {
-      load4(vel, i0, i1, i2, i3, xi, yi, zi);
-    }
-    load4(vel, j0, j1, j2, j3, xj, yj, zj);
-    _mm256_store_pd(B.vx + s, _mm256_sub_pd(xi, xj));
-    _mm256_store_pd(B.vy + s, _mm256_sub_pd(yi, yj));
-    _mm256_store_pd(B.vz + s, _mm256_sub_pd(zi, zj));
+    __m256d const d0 = _mm256_sub_pd(_mm256_load_pd(vel[i0].v), _mm256_load_pd(vel[j0].v));
+    __m256d const d1 = _mm256_sub_pd(_mm256_load_pd(vel[i1].v), _mm256_load_pd(vel[j1].v));
+    __m256d const d2 = _mm256_sub_pd(_mm256_load_pd(vel[i2].v), _mm256_load_pd(vel[j2].v));
+    __m256d const d3 = _mm256_sub_pd(_mm256_load_pd(vel[i3].v), _mm256_load_pd(vel[j3].v));
+    __m256d const t0 = _mm256_unpacklo_pd(d0, d1), t1 = _mm256_unpackhi_pd(d0, d1); // x0 x1 z0 z1 / y0 y1 - -
+    __m256d const t2 = _mm256_unpacklo_pd(d2, d3), t3 = _mm256_unpackhi_pd(d2, d3);
+    _mm256_store_pd(B.vx + s, _mm256_permute2f128_pd(t0, t2, 0x20));
+    _mm256_store_pd(B.vy + s, _mm256_permute2f128_pd(t1, t3, 0x20));
+    _mm256_store_pd(B.vz + s, _mm256_permute2f128_pd(t0, t2, 0x31));
     __m128i const a = _mm_set_epi32(pid[i3], pid[i2], pid[i1], pid[i0]);
     __m128i const c = _mm_set_epi32(pid[j3], pid[j2], pid[j1], pid[j0]);
     __m128i const mn = _mm_min_epu32(a, c), mx = _mm_max_epu32(a, c);
@@ -429,6 +439,66 @@ __attribute__((target("avx2"))) void gather_dpd_avx2(std::array<int, 2> const *_
     _mm256_storeu_pd(sign + s, _mm256_cvtepi32_pd(_mm_sub_epi32(_mm_and_si128(less, two), one)));
   }
   gather_dpd_scalar_from(s, bij, n, vel, pid, B, lo, hi, sign);
+}
+
+/** scatter_scalar four pairs at a time: the forces transposed into
+ * (fx, fy, fz, 0) records, then per pair one 256-bit add to f_i and one
+ * subtract from f4[j], in list order (lane by lane the scalar operations).
+ * RegI = false: f_i through memory pair by pair, no branch (short runs of
+ * one i, as in a DPD fluid: the branch on a run's end would be mispredicted
+ * every ~6 pairs); RegI = true: f_i summed in a register over a run of one i
+ * (long runs, as in LJ at r_c = 2.5: through memory, each addition waits on
+ * the last one's store). The same additions in the same order either way (no
+ * j of a run is its i). */
+/** One pair of scatter_avx2 (its force @p f as an (x, y, z, 0) record). */
+template <bool RegI>
+__attribute__((target("avx2"), always_inline)) inline void scatter_one(std::array<int, 2> const *__restrict bij,
+                                                                       int q, __m256d f, Force4 *__restrict f4,
+                                                                       int &ci, __m256d &fi) {
+  int const i = bij[q][0];
+  if constexpr (RegI) {
+    if (i != ci) {
+      _mm256_store_pd(f4[ci].v, fi);
+      ci = i, fi = _mm256_load_pd(f4[i].v);
+    }
+    fi = _mm256_add_pd(fi, f);
+  } else {
+    double *const pi = f4[i].v;
+    _mm256_store_pd(pi, _mm256_add_pd(_mm256_load_pd(pi), f));
+  }
+  double *const pj = f4[bij[q][1]].v;
+  _mm256_store_pd(pj, _mm256_sub_pd(_mm256_load_pd(pj), f));
+}
+
+template <bool RegI>
+__attribute__((target("avx2"))) void scatter_avx2(std::array<int, 2> const *__restrict bij, int n,
+                                                  PairBlockSoA const &B, Force4 *__restrict f4) {
+  if (n == 0)
+    return;
+  int s = 0;
+  __m256d const zero = _mm256_setzero_pd();
+  int ci = bij[0][0];
+  __m256d fi = RegI ? _mm256_load_pd(f4[ci].v) : zero;
+  for (; s + 4 <= n; s += 4) {
+    __m256d const fx = _mm256_load_pd(B.fx + s), fy = _mm256_load_pd(B.fy + s), fz = _mm256_load_pd(B.fz + s);
+    __m256d const t0 = _mm256_unpacklo_pd(fx, fy), t1 = _mm256_unpackhi_pd(fx, fy); // x0 y0 x2 y2 / x1 y1 x3 y3
+    __m256d const t2 = _mm256_unpacklo_pd(fz, zero), t3 = _mm256_unpackhi_pd(fz, zero); // z0 0 z2 0 / z1 0 z3 0
+    scatter_one<RegI>(bij, s, _mm256_permute2f128_pd(t0, t2, 0x20), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 1, _mm256_permute2f128_pd(t1, t3, 0x20), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 2, _mm256_permute2f128_pd(t0, t2, 0x31), f4, ci, fi);
+    scatter_one<RegI>(bij, s + 3, _mm256_permute2f128_pd(t1, t3, 0x31), f4, ci, fi);
+  }
+  for (; s < n; ++s)
+    scatter_one<RegI>(bij, s, _mm256_set_pd(0., B.fz[s], B.fy[s], B.fx[s]), f4, ci, fi);
+  if constexpr (RegI)
+    _mm256_store_pd(f4[ci].v, fi);
+}
+
+void scatter_avx2_pairs(std::array<int, 2> const *bij, int n, PairBlockSoA const &B, Force4 *f4) {
+  scatter_avx2<false>(bij, n, B, f4);
+}
+void scatter_avx2_runs(std::array<int, 2> const *bij, int n, PairBlockSoA const &B, Force4 *f4) {
+  scatter_avx2<true>(bij, n, B, f4);
 }
 #endif
 
@@ -446,7 +516,7 @@ int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d con
   return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
 }
 
-void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Rec4 const *vel, int const *pid,
                            PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
@@ -466,6 +536,25 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
     return rows_select_scalar<true>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
   }
   return rows_select_scalar<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
+}
+
+void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4, bool long_runs) {
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    return long_runs ? scatter_avx2_runs(bij, n, b, f4) : scatter_avx2_pairs(bij, n, b, f4);
+#else
+  (void)long_runs;
+#endif
+  scatter_scalar(bij, n, b, f4);
+}
+
+std::vector<PairScatterPath> pair_scatter_paths() {
+  std::vector<PairScatterPath> out{{"scalar", &scatter_scalar}};
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    out.push_back({"avx2", &scatter_avx2_pairs}), out.push_back({"avx2_runs", &scatter_avx2_runs});
+#endif
+  return out;
 }
 
 std::vector<PairRowsSelectPath> pair_rows_select_paths() {

@@ -49,6 +49,15 @@ struct PairBlockSoA {
   alignas(64) double fx[kPairBlock], fy[kPairBlock], fz[kPairBlock];
 };
 
+/** A vector (x, y, z, 0) in 32 bytes: the SIMD loop's private copies of
+ * the velocities and its force buffer (one aligned 256-bit load, or
+ * read-modify-write, per particle and pair; a record never straddles a cache
+ * line). */
+struct alignas(32) Rec4 {
+  double v[4];
+};
+using Force4 = Rec4;
+
 /** Select the listed pairs blk[0 .. nb) within their type pair's squared
  * cutoff (@p cut2_table, a * nt + b; a NaN distance is kept: the force check
  * reports it) and gather them: pair and d = r_i - r_j at the next free slot,
@@ -75,10 +84,27 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
                      std::array<int, 2> *bij, PairBlockSoA &b);
 
 /** The DPD inputs of the selected pairs bij[0 .. n): v = v_i - v_j into @p b
- * and the ordered ids and noise sign (order_pair_ids) into @p lo, @p hi,
- * @p sign; with AVX2 four pairs at a time, else scalar: the same bits. */
-void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Utils::Vector3d const *vel, int const *pid,
+ * (from @p vel4, the velocities as Rec4 records) and the ordered ids and
+ * noise sign (order_pair_ids) into @p lo, @p hi, @p sign; with AVX2 four
+ * pairs at a time, else scalar: the same bits. */
+void pair_block_gather_dpd(std::array<int, 2> const *bij, int n, Rec4 const *vel4, int const *pid,
                            PairBlockSoA &b, std::uint32_t *lo, std::uint32_t *hi, double *sign);
+
+/** Add the forces b.fx/fy/fz of the selected pairs bij[0 .. n) into @p f4:
+ * per pair, in list order, f4[i] += f and f4[j] -= f, component by component:
+ * the additions of the scalar loop in its order, so the same bits. With AVX2
+ * the three components in one 256-bit lane set (lane 3 stays 0), f_i summed
+ * in a register over a run of one i where @p long_runs (e.g. LJ at r_c =
+ * 2.5), else through memory with no branch (DPD: runs of ~6 pairs). */
+void pair_block_scatter(std::array<int, 2> const *bij, int n, PairBlockSoA const &b, Force4 *f4,
+                        bool long_runs = false);
+
+/** Every code path of pair_block_scatter this CPU has (tests). */
+struct PairScatterPath {
+  char const *name;
+  void (*scatter)(std::array<int, 2> const *, int, PairBlockSoA const &, Force4 *);
+};
+std::vector<PairScatterPath> pair_scatter_paths();
 
 /** Every code path of pair_block_select for one-type scenes (nt = 1) and of
  * pair_block_gather_dpd this CPU has, by name ("scalar", "avx2"), for the
@@ -87,7 +113,7 @@ struct PairSelectPath {
   char const *name;
   int (*select)(std::array<int, 2> const *, int, Utils::Vector3d const *, double, std::array<int, 2> *,
                 PairBlockSoA &);
-  void (*gather_dpd)(std::array<int, 2> const *, int, Utils::Vector3d const *, int const *, PairBlockSoA &,
+  void (*gather_dpd)(std::array<int, 2> const *, int, Rec4 const *, int const *, PairBlockSoA &,
                      std::uint32_t *, std::uint32_t *, double *);
 };
 std::vector<PairSelectPath> pair_select_paths();
