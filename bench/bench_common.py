@@ -28,3 +28,23 @@ def machine_info():
                 python=platform.python_version(), marble_git=rev,
                 features=sorted(marble.features()), build_options=marble.build_options(),
                 date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
+
+
+def lj_fcc_system(ncell, rng):
+    """LAMMPS's in.lj scene: an fcc lattice of 4 ncell^3 atoms at rho = 0.8442,
+    velocities drawn from @p rng at T = 1.44 (zero total momentum), LJ with
+    cutoff 2.5, dt = 0.005, skin 0.3 (not yet run)."""
+    import numpy as np
+    rho = 0.8442
+    a = (4.0 / rho) ** (1.0 / 3.0)
+    basis = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+    g = np.arange(ncell)
+    cells = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
+    pos = (cells[:, None, :] + basis[None, :, :]).reshape(-1, 3) * a
+    s = marble.System(box_l=[ncell * a] * 3)
+    s.time_step = 0.005
+    s.cell_system.skin = 0.3
+    v = rng.normal(size=pos.shape) * np.sqrt(1.44)
+    s.part.add(pos=pos, v=v - v.mean(axis=0))
+    s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2.5, shift=0.0)
+    return s

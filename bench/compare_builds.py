@@ -41,18 +41,8 @@ def worker(case, steps):
     import marble
     rng = np.random.default_rng(7)
     if case == "lj":
-        rho, ncell = 0.8442, 20
-        a = (4.0 / rho) ** (1.0 / 3.0)
-        basis = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
-        g = np.arange(ncell)
-        cells = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
-        pos = (cells[:, None, :] + basis[None, :, :]).reshape(-1, 3) * a
-        s = marble.System(box_l=[ncell * a] * 3)
-        s.time_step = 0.005
-        s.cell_system.skin = 0.3
-        v = rng.normal(size=pos.shape) * np.sqrt(1.44)
-        s.part.add(pos=pos, v=v - v.mean(axis=0))
-        s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2.5, shift=0.0)
+        from bench_common import lj_fcc_system
+        s = lj_fcc_system(20, rng)
         s.integrator.run(20)
     else:
         L = 20.0

@@ -91,36 +91,23 @@ def scenes():
         s.integrator.run(40)
         state(s, out, "small")
 
-    def shardlow(out):
-        s = dpd_box(8.0, 1536, 7)
-        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
-        s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
-        s.integrator.set_shardlow()
-        s.integrator.run(30)
-        state(s, out, "shardlow")
+    def dpd_integrator(seed, integrator, key):
+        def run(out):
+            s = dpd_box(8.0, 1536, seed)
+            s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
+            s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
+            getattr(s.integrator, integrator)()
+            s.integrator.run(30)
+            state(s, out, key)
+        return run
 
-    def dpd_vv(out):
-        s = dpd_box(8.0, 1536, 8)
-        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
-        s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
-        s.integrator.set_dpd_vv()
-        s.integrator.run(30)
-        state(s, out, "dpdvv")
+    shardlow = dpd_integrator(7, "set_shardlow", "shardlow")
+    dpd_vv = dpd_integrator(8, "set_dpd_vv", "dpdvv")
 
     def lj(out):
         rng = np.random.default_rng(9)
-        rho, ncell = 0.8442, 6
-        a = (4.0 / rho) ** (1.0 / 3.0)
-        basis = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
-        g = np.arange(ncell)
-        cells = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
-        pos = (cells[:, None, :] + basis[None, :, :]).reshape(-1, 3) * a
-        s = marble.System(box_l=[ncell * a] * 3)
-        s.time_step = 0.005
-        s.cell_system.skin = 0.3
-        v = rng.normal(size=pos.shape) * np.sqrt(1.44)
-        s.part.add(pos=pos, v=v - v.mean(axis=0))
-        s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2.5, shift=0.0)
+        from bench_common import lj_fcc_system
+        s = lj_fcc_system(6, rng)
         s.integrator.run(60)
         e = s.analysis.energy()
         pt = s.analysis.pressure_tensor()

@@ -84,6 +84,22 @@ constexpr int nA = 19, nB = 26;
 constexpr double kMagic = 6755399441055744.; // 1.5 2^52
 constexpr double kTermLimit = 1048576.;      // 2^20
 constexpr int kCellLimit = 1 << 13;
+/** floor(t) as an int by truncation and correction (no libm call). */
+inline int floor_to_int(double t) {
+  int k = static_cast<int>(t);
+  return k - (t < static_cast<double>(k));
+}
+
+/** Cell k wrapped into [0, nd): without an integer division for k in [-nd, 2 nd). */
+inline int periodic_cell(int k, int nd) {
+  k += k < 0 ? nd : (k >= nd ? -nd : 0);
+  if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
+    k %= nd;
+    k = k < 0 ? k + nd : k;
+  }
+  return k;
+}
+
 inline void add_exact(double x, double *s) {
   double const y = x * 1048576.; // 2^20, exact
   double const h = (y + kMagic) - kMagic;
@@ -212,19 +228,11 @@ void Fluid::collide(System &s) {
     // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d];
     // floor by truncation and correction (no libm call), the periodic wrap
     // without an integer division where k is in [-n_d, 2 n_d)
-    double const t = (x - shift[d]) * inv_a0;
-    int k = static_cast<int>(t);
-    k -= t < static_cast<double>(k);
+    int k = floor_to_int((x - shift[d]) * inv_a0);
     if (ax[d].mode == 2)
       k = std::clamp(k + 1, 0, gdim[d] - 1);
     else if (ax[d].mode == 0) {
-      int const nd = m_grid[d];
-      k += k < 0 ? nd : (k >= nd ? -nd : 0);
-      if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
-        k %= nd;
-        k = k < 0 ? k + nd : k;
-      }
-      return k;
+      return periodic_cell(k, m_grid[d]);
     }
     k -= ax[d].off;
     if (k < 0 || k >= ax[d].ext) [[unlikely]] {
@@ -238,16 +246,8 @@ void Fluid::collide(System &s) {
   m_count.assign(n_cells + 1, 0);
   if (ax[0].mode == 0 && ax[1].mode == 0 && ax[2].mode == 0) { // the whole periodic box (one rank)
     auto coord = [&](double x, int d) {
-      double const t = (x - shift[d]) * inv_a0;
-      int k = static_cast<int>(t);
-      k -= t < static_cast<double>(k);
-      int const nd = m_grid[d];
-      k += k < 0 ? nd : (k >= nd ? -nd : 0);
-      if (static_cast<unsigned>(k) >= static_cast<unsigned>(nd)) [[unlikely]] {
-        k %= nd;
-        k = k < 0 ? k + nd : k;
-      }
-      return k;
+      int k = floor_to_int((x - shift[d]) * inv_a0);
+      return periodic_cell(k, m_grid[d]);
     };
     int *__restrict cl = m_cell.data(), *__restrict cnt = m_count.data();
     for (int i = 0; i < n; ++i) {
