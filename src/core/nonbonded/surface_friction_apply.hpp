@@ -106,25 +106,40 @@ inline double surface_friction_scale(SurfaceFriction::Params const &p, std::vect
   return SurfaceFriction::shared_scale(p, SurfaceFriction::pair_shells(p, shells[i], shells[j]));
 }
 
-/** Explicit forces and torques (with the noise of @p noise) on locals and ghosts. */
-inline void add_surface_friction_forces(ParticleStore &ps, CellSystem const &cells, InteractionTable const &ia,
-                                        NoiseContext const &noise, bool parallel) {
+/**
+ * Calls fn(i, j, d, r, p, scale, xi) for every surface-friction pair that acts
+ * (shared-shell factor scale > 0), with its counter-based noise xi: the one
+ * place where the explicit force and its virial take the pair's scale and noise.
+ */
+template <class F>
+void for_each_scaled_surface_friction_pair(ParticleStore const &ps, CellSystem const &cells, InteractionTable const &ia,
+                                           NoiseContext const &noise, bool parallel, F &&fn) {
   std::vector<int> const shells = surface_friction_shells(ps, cells, ia, parallel);
   for_each_surface_friction_pair(ps, cells.pairs(), ia, [&](int i, int j, Utils::Vector3d const &d, double r,
                                                             SurfaceFriction::Params const &p) {
     double const scale = surface_friction_scale(p, shells, i, j);
     if (scale <= 0.)
       return;
-    Utils::Vector3d const xi = pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]);
-    auto const out =
-        SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), xi, scale);
-    ps.f[i] += out.f_i;
-    ps.f[j] -= out.f_i;
-#ifdef ROTATION
-    ps.torque[i] += out.torque_i;
-    ps.torque[j] += out.torque_j;
-#endif
+    fn(i, j, d, r, p, scale, pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]));
   });
+}
+
+/** Explicit forces and torques (with the noise of @p noise) on locals and ghosts. */
+inline void add_surface_friction_forces(ParticleStore &ps, CellSystem const &cells, InteractionTable const &ia,
+                                        NoiseContext const &noise, bool parallel) {
+  for_each_scaled_surface_friction_pair(
+      ps, cells, ia, noise, parallel,
+      [&](int i, int j, Utils::Vector3d const &d, double r, SurfaceFriction::Params const &p, double scale,
+          Utils::Vector3d const &xi) {
+        auto const out =
+            SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), xi, scale);
+        ps.f[i] += out.f_i;
+        ps.f[j] -= out.f_i;
+#ifdef ROTATION
+        ps.torque[i] += out.torque_i;
+        ps.torque[j] += out.torque_j;
+#endif
+      });
 }
 
 /** Virial sums d (x) F_i / V of the friction and the noise (added to @p fric, @p nse). */
@@ -132,22 +147,19 @@ inline void surface_friction_virial(ParticleStore const &ps, CellSystem const &c
                                     NoiseContext const &noise, double V, bool parallel, std::array<double, 9> &fric,
                                     std::array<double, 9> &nse) {
   Utils::Vector3d const zero{};
-  std::vector<int> const shells = surface_friction_shells(ps, cells, ia, parallel);
-  for_each_surface_friction_pair(ps, cells.pairs(), ia, [&](int i, int j, Utils::Vector3d const &d, double r,
-                                                            SurfaceFriction::Params const &p) {
-    double const scale = surface_friction_scale(p, shells, i, j);
-    if (scale <= 0.)
-      return;
-    Utils::Vector3d const xi = pair_noise(noise, SurfaceFriction::salt, ps.id[i], ps.id[j]);
-    auto const ff =
-        SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), zero, scale);
-    auto const fn = SurfaceFriction::force(p, d, r, zero, zero, zero, xi, scale);
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        fric[3 * a + b] += d[a] * ff.f_i[b] / V;
-        nse[3 * a + b] += d[a] * fn.f_i[b] / V;
-      }
-  });
+  for_each_scaled_surface_friction_pair(
+      ps, cells, ia, noise, parallel,
+      [&](int i, int j, Utils::Vector3d const &d, double r, SurfaceFriction::Params const &p, double scale,
+          Utils::Vector3d const &xi) {
+        auto const ff =
+            SurfaceFriction::force(p, d, r, ps.v[i] - ps.v[j], detail::spin(ps, i), detail::spin(ps, j), zero, scale);
+        auto const fn = SurfaceFriction::force(p, d, r, zero, zero, zero, xi, scale);
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            fric[3 * a + b] += d[a] * ff.f_i[b] / V;
+            nse[3 * a + b] += d[a] * fn.f_i[b] / V;
+          }
+      });
 }
 
 /**
