@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -207,7 +208,24 @@ void System::compute_forces(bool with_thermostat) {
 
 void System::check_forces_finite() const {
   std::string msg;
-  for (int i = 0; i < m_ps.n_local(); ++i) {
+  // a branchless pass first (it vectorises): all finite, the common case;
+  // the loop below names the first bad particle
+  int any_bad = 0;
+  {
+    int const n = m_ps.n_local();
+    double const big = std::numeric_limits<double>::max();
+    auto const *const f = m_ps.f.data();
+    for (int i = 0; i < n; ++i) // inf or NaN
+      any_bad |= (!(std::abs(f[i][0]) <= big) ? 1 : 0) | (!(std::abs(f[i][1]) <= big) ? 1 : 0) |
+                 (!(std::abs(f[i][2]) <= big) ? 1 : 0);
+#ifdef ROTATION
+    auto const *const t = m_ps.torque.data();
+    for (int i = 0; i < n; ++i)
+      any_bad |= (!(std::abs(t[i][0]) <= big) ? 1 : 0) | (!(std::abs(t[i][1]) <= big) ? 1 : 0) |
+                 (!(std::abs(t[i][2]) <= big) ? 1 : 0);
+#endif
+  }
+  for (int i = 0; any_bad && i < m_ps.n_local(); ++i) {
     bool bad = !Utils::isfinite(m_ps.f[i]);
 #ifdef ROTATION
     bad = bad || !Utils::isfinite(m_ps.torque[i]);

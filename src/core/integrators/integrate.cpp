@@ -18,28 +18,34 @@ namespace Marble {
 
 using Utils::Vector3d;
 
+namespace {
 // v += half_dt F/m (and omega += half_dt tau/I) of local i; returns half_dt/m.
-double System::kick_one(int i, double half_dt) {
-  double const a = half_dt / m_ps.get_mass(i);
-  auto &v = m_ps.v[i];
-  auto const &f = m_ps.f[i];
-  if (!m_ps.has_fixed(i)) {
+// File-local so that the sweeps below inline it (a member function of the
+// shared module is called through the PLT: -fPIC lets it be interposed).
+inline double kick_particle(ParticleStore &ps, int i, double half_dt) {
+  double const a = half_dt / ps.get_mass(i);
+  auto &v = ps.v[i];
+  auto const &f = ps.f[i];
+  if (!ps.has_fixed(i)) {
     for (int d = 0; d < 3; ++d)
       v[d] = v[d] + a * f[d];
   } else {
     for (int d = 0; d < 3; ++d)
-      v[d] = m_ps.is_fixed(i, d) ? 0. : v[d] + a * f[d];
+      v[d] = ps.is_fixed(i, d) ? 0. : v[d] + a * f[d];
   }
 #ifdef ROTATION
-  if (m_ps.rotation[i])
-    m_ps.omega[i] += (half_dt / m_ps.rinertia[i]) * m_ps.torque[i];
+  if (ps.rotation[i])
+    ps.omega[i] += (half_dt / ps.rinertia[i]) * ps.torque[i];
 #endif
   return a;
 }
+} // namespace
+
+double System::kick_one(int i, double half_dt) { return kick_particle(m_ps, i, half_dt); }
 
 void System::kick(double half_dt) {
   for (int i = 0; i < m_ps.n_local(); ++i)
-    kick_one(i, half_dt);
+    kick_particle(m_ps, i, half_dt);
 }
 
 // Half kick + drift, refusing a step that moves a particle farther than the
@@ -85,7 +91,7 @@ void System::drift_checked(bool kick_first) {
   bool moved = false;
   if (kick_first) {
     for (int i = 0; i < n; ++i) {
-      am[i] = kick_one(i, half_dt);
+      am[i] = kick_particle(m_ps, i, half_dt);
       Vector3d dv, dx;
       step_of(i, dv, dx);
       double const disp2 = dx.norm2();
