@@ -22,6 +22,9 @@ using Utils::Vector3d;
 
 namespace {
 
+// rebuild() refuses ranges above 16 box lengths: at most 2 * 16 + 1 image shifts per axis
+constexpr int kMaxShiftsPerAxis = 33;
+
 // A ghost shift is "positive" if its first non-zero component is > 0.
 bool shift_positive(Vector3d const &s) {
   for (int d = 0; d < 3; ++d) {
@@ -213,7 +216,20 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
   std::vector<std::vector<MigrationRecord>> send(size);
   std::vector<int> leaving;
   bool far = false;
+  // a particle well inside this rank's domain (a margin far above the
+  // round-off of x / dl) stays: six comparisons instead of three divisions
+  auto const me_at = coords_of(g, me);
+  double in_lo[3], in_hi[3];
+  for (int d = 0; d < 3; ++d) {
+    double const dl = L[d] / g[d], margin = 1e-9 * (L[d] + 1.);
+    in_lo[d] = me_at[d] == 0 ? -std::numeric_limits<double>::infinity() : me_at[d] * dl + margin;
+    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity() : (me_at[d] + 1) * dl - margin;
+  }
   for (int i = 0; i < ps.n_local(); ++i) {
+    Vector3d const &x = ps.pos[i];
+    if (x[0] >= in_lo[0] && x[0] < in_hi[0] && x[1] >= in_lo[1] && x[1] < in_hi[1] && x[2] >= in_lo[2] &&
+        x[2] < in_hi[2])
+      continue;
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
       c[d] = axis_coord(ps.pos[i][d], L[d] / g[d], g[d]);
@@ -295,20 +311,10 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   // cost ghost updates and force reductions). Several ranks: every shift, since
   // other ranks need the images on all sides. Large-range particles: every
   // shift (their pairs with small particles are listed from the large side).
-  std::vector<Vector3d> shifts;
-  std::vector<char> positive;
-  std::vector<std::array<int, 3>> ishifts; // the shifts in box lengths
-  for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
-    for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
-      for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
-        Vector3d const sh{sx * L[0], sy * L[1], sz * L[2]};
-        bool const pos = shift_positive(sh);
-        if (par || pos || any_wide) {
-          shifts.push_back(sh);
-          positive.push_back(pos ? 1 : 0);
-          ishifts.push_back({sx, sy, sz});
-        }
-      }
+  // (one rank: the !par && !w && !pos_shift test in the loop below)
+  for (int d = 0; d < 3; ++d)
+    if (2 * nimg[d] + 1 > kMaxShiftsPerAxis)
+      throw Utils::RuntimeError("internal error: too many periodic images along axis " + std::to_string(d));
   std::array<int, 3> const me_at = coords_of(g, me);
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
@@ -344,47 +350,57 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           m_send[q].push_back({i, Vector3d{0., 0., 0.}});
       continue;
     }
-    for (std::size_t k = 0; k < shifts.size(); ++k) {
-      auto const &sh = shifts[k];
-      if (!par && !w && !positive[k])
-        continue;
-      // cheap reject: an image farther than the range from the box on some axis
-      if (sh[0] != 0. && (p[0] + sh[0] < -r || p[0] + sh[0] >= L[0] + r))
-        continue;
-      if (sh[1] != 0. && (p[1] + sh[1] < -r || p[1] + sh[1] >= L[1] + r))
-        continue;
-      if (sh[2] != 0. && (p[2] + sh[2] < -r || p[2] + sh[2] >= L[2] + r))
-        continue;
-      Vector3d const q = p + sh;
-      // node-grid coordinates whose domain, grown by the range, holds q
-      std::array<int, 3> lo{}, hi{};
-      bool none = false;
-      for (int d = 0; d < 3; ++d) {
-        int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
-        int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
-        if (!box.periodic(d)) { // the outer domains extend to infinity
-          a = std::clamp(a, 0, g[d] - 1);
-          b = std::clamp(b, 0, g[d] - 1);
-        }
-        lo[d] = std::max(a, 0);
-        hi[d] = std::min(b, g[d] - 1);
-        none |= lo[d] > hi[d];
+    // the shifts whose image passes the cheap reject (farther than the range
+    // from the box on some axis: no ghost), axis by axis, in the order of
+    // the full (sx, sy, sz) loop: the same ghosts in the same order
+    int ax[3][kMaxShiftsPerAxis], n_ax[3];
+    for (int d = 0; d < 3; ++d) {
+      n_ax[d] = 0;
+      for (int s = -nimg[d]; s <= nimg[d]; ++s) {
+        double const sh = s * L[d];
+        if (s != 0 && (p[d] + sh < -r || p[d] + sh >= L[d] + r))
+          continue;
+        ax[d][n_ax[d]++] = s;
       }
-      if (none)
-        continue;
-      bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : positive[k] != 0;
-      for (int cx = lo[0]; cx <= hi[0]; ++cx)
-        for (int cy = lo[1]; cy <= hi[1]; ++cy)
-          for (int cz = lo[2]; cz <= hi[2]; ++cz) {
-            int const dest = rank_of(g, {cx, cy, cz});
-            if (dest == me) {
-              if (own_image)
-                ps.add_ghost(i, sh);
-            } else if (w || half_shell_sends(me_at, ishifts[k], g, {cx, cy, cz})) {
-              m_send[dest].push_back({i, sh}); // large-range particles: a full shell
-            }
-          }
     }
+    for (int kx = 0; kx < n_ax[0]; ++kx)
+      for (int ky = 0; ky < n_ax[1]; ++ky)
+        for (int kz = 0; kz < n_ax[2]; ++kz) {
+          std::array<int, 3> const ish{ax[0][kx], ax[1][ky], ax[2][kz]};
+          Vector3d const sh{ish[0] * L[0], ish[1] * L[1], ish[2] * L[2]};
+          bool const pos_shift = shift_positive(sh);
+          if (!par && !w && !pos_shift)
+            continue;
+          Vector3d const q = p + sh;
+          // node-grid coordinates whose domain, grown by the range, holds q
+          std::array<int, 3> lo{}, hi{};
+          bool none = false;
+          for (int d = 0; d < 3; ++d) {
+            int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
+            int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
+            if (!box.periodic(d)) { // the outer domains extend to infinity
+              a = std::clamp(a, 0, g[d] - 1);
+              b = std::clamp(b, 0, g[d] - 1);
+            }
+            lo[d] = std::max(a, 0);
+            hi[d] = std::min(b, g[d] - 1);
+            none |= lo[d] > hi[d];
+          }
+          if (none)
+            continue;
+          bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : pos_shift;
+          for (int cx = lo[0]; cx <= hi[0]; ++cx)
+            for (int cy = lo[1]; cy <= hi[1]; ++cy)
+              for (int cz = lo[2]; cz <= hi[2]; ++cz) {
+                int const dest = rank_of(g, {cx, cy, cz});
+                if (dest == me) {
+                  if (own_image)
+                    ps.add_ghost(i, sh);
+                } else if (w || half_shell_sends(me_at, ish, g, {cx, cy, cz})) {
+                  m_send[dest].push_back({i, sh}); // large-range particles: a full shell
+                }
+              }
+        }
   }
   if (!par)
     return;
@@ -710,8 +726,18 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   pj.resize(n_pairs + kPad); // padded by valid indices for SIMD reads past a row
   std::fill(pj.end() - kPad, pj.end(), 0);
   members.resize(static_cast<std::size_t>(n_members));
-  if (parallel()) {
-    // a pair with another rank's particle is computed by the rank owning the smaller id
+  // A pair with another rank's particle is computed by the rank owning the
+  // smaller id, but only for large-range particles and colloid copies (they
+  // come from all sides); the half-shell ghosts of other ranks' small
+  // particles are computed here (other_rank_computes). Without such ghosts
+  // (a plain fluid) the list is final: no pass over all pairs.
+  bool filter = false;
+  if (parallel())
+    for (int g = n_local; g < n_all && !filter; ++g) {
+      int const o = ps.ghost_owner[g - n_local];
+      filter = o == kRemoteColloidGhost || (o == kRemoteGhost && any_wide && wide(ps.type[g]));
+    }
+  if (filter) {
     std::size_t w = 0;
     for (int i = 0; i < n_small_local; ++i) {
       std::size_t const k0 = static_cast<std::size_t>(row[i]), k1 = static_cast<std::size_t>(row[i + 1]);
