@@ -22,6 +22,18 @@ using Utils::Vector3d;
 
 namespace {
 
+/** Slot @p q of @p bufs, grown (never shrunk, so not refilled every call) to
+ * at least @p bytes (storage aligned for any scalar type). */
+void *grow_buffer(std::vector<std::vector<std::max_align_t>> &bufs, int q, std::size_t bytes) {
+  if (bufs.size() <= static_cast<std::size_t>(q))
+    bufs.resize(static_cast<std::size_t>(q) + 1);
+  auto &b = bufs[static_cast<std::size_t>(q)];
+  std::size_t const words = (bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+  if (b.size() < words)
+    b.resize(words);
+  return b.data();
+}
+
 // rebuild() refuses ranges above 16 box lengths: at most 2 * 16 + 1 image shifts per axis
 constexpr int kMaxShiftsPerAxis = 33;
 
@@ -401,6 +413,12 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
                 }
               }
         }
+  }
+  m_send_index.resize(static_cast<std::size_t>(size));
+  for (int q = 0; q < size; ++q) {
+    m_send_index[q].resize(m_send[q].size());
+    for (std::size_t k = 0; k < m_send[q].size(); ++k)
+      m_send_index[q][k] = m_send[q][k].index;
   }
   if (!par)
     return;
@@ -920,27 +938,28 @@ template <typename T, typename Pack, typename Unpack>
 void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
   static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  m_xsend.resize(static_cast<std::size_t>(size));
-  m_xrecv.resize(static_cast<std::size_t>(size));
+  auto &sb = m_xblocks[0];
+  auto &rb = m_xblocks[1];
+  sb.clear();
+  rb.clear();
   for (int q = 0; q < size; ++q) {
-    auto &buf = m_xsend[q];
-    buf.resize(m_send[q].size() * sizeof(T));
-    char *out = buf.data();
-    for (auto const &e : m_send[q]) {
-      T const x = pack(e);
-      std::memcpy(out, &x, sizeof(T));
-      out += sizeof(T);
+    std::size_t const n_out = m_send[q].size(), n_in = static_cast<std::size_t>(m_recv_count[q]);
+    if (n_out > 0) {
+      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
+      SendEntry const *const e = m_send[q].data();
+      for (std::size_t k = 0; k < n_out; ++k)
+        out[k] = pack(e[k]);
+      sb.push_back({q, out, n_out * sizeof(T)});
     }
-    m_xrecv[q].resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
+    if (n_in > 0)
+      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
   }
-  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
-  for (int q = 0; q < size; ++q) {
-    char const *in = m_xrecv[q].data();
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      T x;
-      std::memcpy(&x, in + static_cast<std::size_t>(k) * sizeof(T), sizeof(T));
-      unpack(m_recv_begin[q] + k, x);
-    }
+  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+  for (auto const &blk : rb) {
+    T const *const in = reinterpret_cast<T const *>(blk.data);
+    int const g0 = m_recv_begin[blk.rank], n_in = m_recv_count[blk.rank];
+    for (int k = 0; k < n_in; ++k)
+      unpack(g0 + k, in[k]);
   }
 }
 
@@ -950,27 +969,29 @@ template <typename T, typename Pack, typename Unpack>
 void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
   static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  m_xsend.resize(static_cast<std::size_t>(size));
-  m_xrecv.resize(static_cast<std::size_t>(size));
+  auto &sb = m_xblocks[0];
+  auto &rb = m_xblocks[1];
+  sb.clear();
+  rb.clear();
   for (int q = 0; q < size; ++q) {
-    auto &buf = m_xsend[q];
-    buf.resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
-    char *out = buf.data();
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      T const x = pack(m_recv_begin[q] + k);
-      std::memcpy(out, &x, sizeof(T));
-      out += sizeof(T);
+    std::size_t const n_out = static_cast<std::size_t>(m_recv_count[q]), n_in = m_send[q].size();
+    if (n_out > 0) {
+      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
+      int const g0 = m_recv_begin[q];
+      for (std::size_t k = 0; k < n_out; ++k)
+        out[k] = pack(g0 + static_cast<int>(k));
+      sb.push_back({q, out, n_out * sizeof(T)});
     }
-    m_xrecv[q].resize(m_send[q].size() * sizeof(T));
+    if (n_in > 0)
+      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
   }
-  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
-  for (int q = 0; q < size; ++q) {
-    char const *in = m_xrecv[q].data();
-    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
-      T x;
-      std::memcpy(&x, in + k * sizeof(T), sizeof(T));
-      unpack(m_send[q][k].index, x);
-    }
+  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+  for (auto const &blk : rb) {
+    T const *const in = reinterpret_cast<T const *>(blk.data);
+    int const *const idx = m_send_index[blk.rank].data();
+    std::size_t const n_in = m_send_index[blk.rank].size();
+    for (std::size_t k = 0; k < n_in; ++k)
+      unpack(idx[k], in[k]);
   }
 }
 
