@@ -422,11 +422,18 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   }
   if (!par)
     return;
-  std::vector<std::vector<GhostRecord>> send(size);
+  // the records written straight into the message bytes and read back from
+  // them (no typed copies on either side)
+  constexpr std::size_t rec_bytes = sizeof(GhostRecord);
+  std::vector<std::vector<char>> send(static_cast<std::size_t>(size)), recv;
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(m_send[q].size());
-    for (auto const &e : m_send[q])
-      send[q].push_back(ps.ghost_record(e.index, e.shift));
+    send[q].resize(m_send[q].size() * rec_bytes);
+    char *out = send[q].data();
+    for (auto const &e : m_send[q]) {
+      GhostRecord const r = ps.ghost_record(e.index, e.shift);
+      std::memcpy(out, &r, rec_bytes);
+      out += rec_bytes;
+    }
   }
   // Colloid copies go to every rank: then the all-rank alltoallv. Otherwise
   // every ghost goes to a neighbour rank (images within r_max of this
@@ -439,12 +446,21 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       throw Utils::RuntimeError("internal error: a ghost for rank " + std::to_string(q) +
                                 ", which is not a neighbour of rank " + std::to_string(me));
 #endif
-  auto const recv = any_replicated ? m_comm->alltoallv(send) : m_comm->neighbor_exchange_var(m_nbrs, send);
+  if (any_replicated)
+    recv = m_comm->alltoallv_bytes(send);
+  else
+    m_comm->neighbor_exchange_var_bytes(m_nbrs, send, recv);
+  recv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
     m_recv_begin[q] = ps.size();
-    m_recv_count[q] = static_cast<int>(recv[q].size());
-    for (auto const &rec : recv[q])
+    std::size_t const n_in = recv[q].size() / rec_bytes;
+    m_recv_count[q] = static_cast<int>(n_in);
+    char const *in = recv[q].data();
+    for (std::size_t k = 0; k < n_in; ++k, in += rec_bytes) {
+      GhostRecord rec;
+      std::memcpy(&rec, in, rec_bytes);
       ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
+    }
   }
 }
 
