@@ -22,6 +22,21 @@ using Utils::Vector3d;
 
 namespace {
 
+/** Slot @p q of @p bufs, grown (never shrunk, so not refilled every call) to
+ * at least @p bytes (storage aligned for any scalar type). */
+void *grow_buffer(std::vector<std::vector<std::max_align_t>> &bufs, int q, std::size_t bytes) {
+  if (bufs.size() <= static_cast<std::size_t>(q))
+    bufs.resize(static_cast<std::size_t>(q) + 1);
+  auto &b = bufs[static_cast<std::size_t>(q)];
+  std::size_t const words = (bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+  if (b.size() < words)
+    b.resize(words);
+  return b.data();
+}
+
+// rebuild() refuses ranges above 16 box lengths: at most 2 * 16 + 1 image shifts per axis
+constexpr int kMaxShiftsPerAxis = 33;
+
 // A ghost shift is "positive" if its first non-zero component is > 0.
 bool shift_positive(Vector3d const &s) {
   for (int d = 0; d < 3; ++d) {
@@ -213,7 +228,20 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
   std::vector<std::vector<MigrationRecord>> send(size);
   std::vector<int> leaving;
   bool far = false;
+  // a particle well inside this rank's domain (a margin far above the
+  // round-off of x / dl) stays: six comparisons instead of three divisions
+  auto const me_at = coords_of(g, me);
+  double in_lo[3], in_hi[3];
+  for (int d = 0; d < 3; ++d) {
+    double const dl = L[d] / g[d], margin = 1e-9 * (L[d] + 1.);
+    in_lo[d] = me_at[d] == 0 ? -std::numeric_limits<double>::infinity() : me_at[d] * dl + margin;
+    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity() : (me_at[d] + 1) * dl - margin;
+  }
   for (int i = 0; i < ps.n_local(); ++i) {
+    Vector3d const &x = ps.pos[i];
+    if (x[0] >= in_lo[0] && x[0] < in_hi[0] && x[1] >= in_lo[1] && x[1] < in_hi[1] && x[2] >= in_lo[2] &&
+        x[2] < in_hi[2])
+      continue;
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
       c[d] = axis_coord(ps.pos[i][d], L[d] / g[d], g[d]);
@@ -295,20 +323,10 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   // cost ghost updates and force reductions). Several ranks: every shift, since
   // other ranks need the images on all sides. Large-range particles: every
   // shift (their pairs with small particles are listed from the large side).
-  std::vector<Vector3d> shifts;
-  std::vector<char> positive;
-  std::vector<std::array<int, 3>> ishifts; // the shifts in box lengths
-  for (int sx = -nimg[0]; sx <= nimg[0]; ++sx)
-    for (int sy = -nimg[1]; sy <= nimg[1]; ++sy)
-      for (int sz = -nimg[2]; sz <= nimg[2]; ++sz) {
-        Vector3d const sh{sx * L[0], sy * L[1], sz * L[2]};
-        bool const pos = shift_positive(sh);
-        if (par || pos || any_wide) {
-          shifts.push_back(sh);
-          positive.push_back(pos ? 1 : 0);
-          ishifts.push_back({sx, sy, sz});
-        }
-      }
+  // (one rank: the !par && !w && !pos_shift test in the loop below)
+  for (int d = 0; d < 3; ++d)
+    if (2 * nimg[d] + 1 > kMaxShiftsPerAxis)
+      throw Utils::RuntimeError("internal error: too many periodic images along axis " + std::to_string(d));
   std::array<int, 3> const me_at = coords_of(g, me);
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
@@ -344,55 +362,78 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           m_send[q].push_back({i, Vector3d{0., 0., 0.}});
       continue;
     }
-    for (std::size_t k = 0; k < shifts.size(); ++k) {
-      auto const &sh = shifts[k];
-      if (!par && !w && !positive[k])
-        continue;
-      // cheap reject: an image farther than the range from the box on some axis
-      if (sh[0] != 0. && (p[0] + sh[0] < -r || p[0] + sh[0] >= L[0] + r))
-        continue;
-      if (sh[1] != 0. && (p[1] + sh[1] < -r || p[1] + sh[1] >= L[1] + r))
-        continue;
-      if (sh[2] != 0. && (p[2] + sh[2] < -r || p[2] + sh[2] >= L[2] + r))
-        continue;
-      Vector3d const q = p + sh;
-      // node-grid coordinates whose domain, grown by the range, holds q
-      std::array<int, 3> lo{}, hi{};
-      bool none = false;
-      for (int d = 0; d < 3; ++d) {
-        int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
-        int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
-        if (!box.periodic(d)) { // the outer domains extend to infinity
-          a = std::clamp(a, 0, g[d] - 1);
-          b = std::clamp(b, 0, g[d] - 1);
-        }
-        lo[d] = std::max(a, 0);
-        hi[d] = std::min(b, g[d] - 1);
-        none |= lo[d] > hi[d];
+    // the shifts whose image passes the cheap reject (farther than the range
+    // from the box on some axis: no ghost), axis by axis, in the order of
+    // the full (sx, sy, sz) loop: the same ghosts in the same order
+    int ax[3][kMaxShiftsPerAxis], n_ax[3];
+    for (int d = 0; d < 3; ++d) {
+      n_ax[d] = 0;
+      for (int s = -nimg[d]; s <= nimg[d]; ++s) {
+        double const sh = s * L[d];
+        if (s != 0 && (p[d] + sh < -r || p[d] + sh >= L[d] + r))
+          continue;
+        ax[d][n_ax[d]++] = s;
       }
-      if (none)
-        continue;
-      bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : positive[k] != 0;
-      for (int cx = lo[0]; cx <= hi[0]; ++cx)
-        for (int cy = lo[1]; cy <= hi[1]; ++cy)
-          for (int cz = lo[2]; cz <= hi[2]; ++cz) {
-            int const dest = rank_of(g, {cx, cy, cz});
-            if (dest == me) {
-              if (own_image)
-                ps.add_ghost(i, sh);
-            } else if (w || half_shell_sends(me_at, ishifts[k], g, {cx, cy, cz})) {
-              m_send[dest].push_back({i, sh}); // large-range particles: a full shell
-            }
-          }
     }
+    for (int kx = 0; kx < n_ax[0]; ++kx)
+      for (int ky = 0; ky < n_ax[1]; ++ky)
+        for (int kz = 0; kz < n_ax[2]; ++kz) {
+          std::array<int, 3> const ish{ax[0][kx], ax[1][ky], ax[2][kz]};
+          Vector3d const sh{ish[0] * L[0], ish[1] * L[1], ish[2] * L[2]};
+          bool const pos_shift = shift_positive(sh);
+          if (!par && !w && !pos_shift)
+            continue;
+          Vector3d const q = p + sh;
+          // node-grid coordinates whose domain, grown by the range, holds q
+          std::array<int, 3> lo{}, hi{};
+          bool none = false;
+          for (int d = 0; d < 3; ++d) {
+            int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
+            int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
+            if (!box.periodic(d)) { // the outer domains extend to infinity
+              a = std::clamp(a, 0, g[d] - 1);
+              b = std::clamp(b, 0, g[d] - 1);
+            }
+            lo[d] = std::max(a, 0);
+            hi[d] = std::min(b, g[d] - 1);
+            none |= lo[d] > hi[d];
+          }
+          if (none)
+            continue;
+          bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : pos_shift;
+          for (int cx = lo[0]; cx <= hi[0]; ++cx)
+            for (int cy = lo[1]; cy <= hi[1]; ++cy)
+              for (int cz = lo[2]; cz <= hi[2]; ++cz) {
+                int const dest = rank_of(g, {cx, cy, cz});
+                if (dest == me) {
+                  if (own_image)
+                    ps.add_ghost(i, sh);
+                } else if (w || half_shell_sends(me_at, ish, g, {cx, cy, cz})) {
+                  m_send[dest].push_back({i, sh}); // large-range particles: a full shell
+                }
+              }
+        }
+  }
+  m_send_index.resize(static_cast<std::size_t>(size));
+  for (int q = 0; q < size; ++q) {
+    m_send_index[q].resize(m_send[q].size());
+    for (std::size_t k = 0; k < m_send[q].size(); ++k)
+      m_send_index[q][k] = m_send[q][k].index;
   }
   if (!par)
     return;
-  std::vector<std::vector<GhostRecord>> send(size);
+  // the records written straight into the message bytes and read back from
+  // them (no typed copies on either side)
+  constexpr std::size_t rec_bytes = sizeof(GhostRecord);
+  std::vector<std::vector<char>> send(static_cast<std::size_t>(size)), recv;
   for (int q = 0; q < size; ++q) {
-    send[q].reserve(m_send[q].size());
-    for (auto const &e : m_send[q])
-      send[q].push_back(ps.ghost_record(e.index, e.shift));
+    send[q].resize(m_send[q].size() * rec_bytes);
+    char *out = send[q].data();
+    for (auto const &e : m_send[q]) {
+      GhostRecord const r = ps.ghost_record(e.index, e.shift);
+      std::memcpy(out, &r, rec_bytes);
+      out += rec_bytes;
+    }
   }
   // Colloid copies go to every rank: then the all-rank alltoallv. Otherwise
   // every ghost goes to a neighbour rank (images within r_max of this
@@ -405,12 +446,21 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       throw Utils::RuntimeError("internal error: a ghost for rank " + std::to_string(q) +
                                 ", which is not a neighbour of rank " + std::to_string(me));
 #endif
-  auto const recv = any_replicated ? m_comm->alltoallv(send) : m_comm->neighbor_exchange_var(m_nbrs, send);
+  if (any_replicated)
+    recv = m_comm->alltoallv_bytes(send);
+  else
+    m_comm->neighbor_exchange_var_bytes(m_nbrs, send, recv);
+  recv.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
     m_recv_begin[q] = ps.size();
-    m_recv_count[q] = static_cast<int>(recv[q].size());
-    for (auto const &rec : recv[q])
+    std::size_t const n_in = recv[q].size() / rec_bytes;
+    m_recv_count[q] = static_cast<int>(n_in);
+    char const *in = recv[q].data();
+    for (std::size_t k = 0; k < n_in; ++k, in += rec_bytes) {
+      GhostRecord rec;
+      std::memcpy(&rec, in, rec_bytes);
       ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
+    }
   }
 }
 
@@ -710,8 +760,18 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   pj.resize(n_pairs + kPad); // padded by valid indices for SIMD reads past a row
   std::fill(pj.end() - kPad, pj.end(), 0);
   members.resize(static_cast<std::size_t>(n_members));
-  if (parallel()) {
-    // a pair with another rank's particle is computed by the rank owning the smaller id
+  // A pair with another rank's particle is computed by the rank owning the
+  // smaller id, but only for large-range particles and colloid copies (they
+  // come from all sides); the half-shell ghosts of other ranks' small
+  // particles are computed here (other_rank_computes). Without such ghosts
+  // (a plain fluid) the list is final: no pass over all pairs.
+  bool filter = false;
+  if (parallel())
+    for (int g = n_local; g < n_all && !filter; ++g) {
+      int const o = ps.ghost_owner[g - n_local];
+      filter = o == kRemoteColloidGhost || (o == kRemoteGhost && any_wide && wide(ps.type[g]));
+    }
+  if (filter) {
     std::size_t w = 0;
     for (int i = 0; i < n_small_local; ++i) {
       std::size_t const k0 = static_cast<std::size_t>(row[i]), k1 = static_cast<std::size_t>(row[i + 1]);
@@ -894,27 +954,28 @@ template <typename T, typename Pack, typename Unpack>
 void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
   static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  m_xsend.resize(static_cast<std::size_t>(size));
-  m_xrecv.resize(static_cast<std::size_t>(size));
+  auto &sb = m_xblocks[0];
+  auto &rb = m_xblocks[1];
+  sb.clear();
+  rb.clear();
   for (int q = 0; q < size; ++q) {
-    auto &buf = m_xsend[q];
-    buf.resize(m_send[q].size() * sizeof(T));
-    char *out = buf.data();
-    for (auto const &e : m_send[q]) {
-      T const x = pack(e);
-      std::memcpy(out, &x, sizeof(T));
-      out += sizeof(T);
+    std::size_t const n_out = m_send[q].size(), n_in = static_cast<std::size_t>(m_recv_count[q]);
+    if (n_out > 0) {
+      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
+      SendEntry const *const e = m_send[q].data();
+      for (std::size_t k = 0; k < n_out; ++k)
+        out[k] = pack(e[k]);
+      sb.push_back({q, out, n_out * sizeof(T)});
     }
-    m_xrecv[q].resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
+    if (n_in > 0)
+      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
   }
-  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
-  for (int q = 0; q < size; ++q) {
-    char const *in = m_xrecv[q].data();
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      T x;
-      std::memcpy(&x, in + static_cast<std::size_t>(k) * sizeof(T), sizeof(T));
-      unpack(m_recv_begin[q] + k, x);
-    }
+  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+  for (auto const &blk : rb) {
+    T const *const in = reinterpret_cast<T const *>(blk.data);
+    int const g0 = m_recv_begin[blk.rank], n_in = m_recv_count[blk.rank];
+    for (int k = 0; k < n_in; ++k)
+      unpack(g0 + k, in[k]);
   }
 }
 
@@ -924,27 +985,29 @@ template <typename T, typename Pack, typename Unpack>
 void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
   static_assert(std::is_trivially_copyable_v<T>);
   int const size = m_comm->size();
-  m_xsend.resize(static_cast<std::size_t>(size));
-  m_xrecv.resize(static_cast<std::size_t>(size));
+  auto &sb = m_xblocks[0];
+  auto &rb = m_xblocks[1];
+  sb.clear();
+  rb.clear();
   for (int q = 0; q < size; ++q) {
-    auto &buf = m_xsend[q];
-    buf.resize(static_cast<std::size_t>(m_recv_count[q]) * sizeof(T));
-    char *out = buf.data();
-    for (int k = 0; k < m_recv_count[q]; ++k) {
-      T const x = pack(m_recv_begin[q] + k);
-      std::memcpy(out, &x, sizeof(T));
-      out += sizeof(T);
+    std::size_t const n_out = static_cast<std::size_t>(m_recv_count[q]), n_in = m_send[q].size();
+    if (n_out > 0) {
+      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
+      int const g0 = m_recv_begin[q];
+      for (std::size_t k = 0; k < n_out; ++k)
+        out[k] = pack(g0 + static_cast<int>(k));
+      sb.push_back({q, out, n_out * sizeof(T)});
     }
-    m_xrecv[q].resize(m_send[q].size() * sizeof(T));
+    if (n_in > 0)
+      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
   }
-  m_comm->neighbor_exchange_bytes(m_xsend, m_xrecv);
-  for (int q = 0; q < size; ++q) {
-    char const *in = m_xrecv[q].data();
-    for (std::size_t k = 0; k < m_send[q].size(); ++k) {
-      T x;
-      std::memcpy(&x, in + k * sizeof(T), sizeof(T));
-      unpack(m_send[q][k].index, x);
-    }
+  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+  for (auto const &blk : rb) {
+    T const *const in = reinterpret_cast<T const *>(blk.data);
+    int const *const idx = m_send_index[blk.rank].data();
+    std::size_t const n_in = m_send_index[blk.rank].size();
+    for (std::size_t k = 0; k < n_in; ++k)
+      unpack(idx[k], in[k]);
   }
 }
 

@@ -277,7 +277,10 @@ private:
   std::vector<int> m_nbrs;
   std::vector<char> m_is_nbr;               // by rank
   std::array<double, 8> m_nbr_key{};        // box, grid size, radius of m_nbrs
-  mutable std::vector<std::vector<char>> m_xsend, m_xrecv; // neighbour-exchange buffers, kept
+  std::vector<std::vector<int>> m_send_index; // m_send[q][k].index, contiguous (force returns)
+  // neighbour-exchange buffers by rank, kept and only grown (no refill per step)
+  mutable std::vector<std::vector<std::max_align_t>> m_xsend, m_xrecv;
+  mutable std::vector<Communicator::Block> m_xblocks[2];
 };
 
 } // namespace Marble

@@ -256,24 +256,37 @@ void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const 
                                            std::vector<std::vector<char>> &recv) const {
   if (m_size == 1)
     return;
+  std::vector<Block> sb, rb;
+  for (int r = 0; r < m_size && r < static_cast<int>(recv.size()); ++r)
+    rb.push_back({r, recv[r].data(), recv[r].size()});
+  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
+    sb.push_back({r, const_cast<char *>(send[r].data()), send[r].size()});
+  neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+}
+void Communicator::neighbor_exchange_blocks(Block const *send, int n_send, Block const *recv,
+                                            int n_recv) const {
+  if (m_size == 1)
+    return;
   ++m_stats.neighbor;
   CommTimer const timer(m_stats);
   // one tag for all: the blocks between two ranks arrive in the order sent
   // (MPI's non-overtaking rule), and each call completes before the next
   constexpr int kTag = 7301;
-  std::vector<MPI_Request> req;
-  req.reserve(2 * static_cast<std::size_t>(m_size));
-  for (int r = 0; r < m_size && r < static_cast<int>(recv.size()); ++r)
-    if (r != m_rank && !recv[r].empty()) {
+  thread_local std::vector<MPI_Request> req;
+  req.clear();
+  for (int k = 0; k < n_recv; ++k)
+    if (recv[k].rank != m_rank && recv[k].bytes > 0) {
       req.emplace_back();
-      MPI_Irecv(recv[r].data(), static_cast<int>(recv[r].size()), MPI_BYTE, r, kTag, m_comm, &req.back());
+      MPI_Irecv(recv[k].data, static_cast<int>(recv[k].bytes), MPI_BYTE, recv[k].rank, kTag, m_comm,
+                &req.back());
     }
-  for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r)
-    if (r != m_rank && !send[r].empty()) {
+  for (int k = 0; k < n_send; ++k)
+    if (send[k].rank != m_rank && send[k].bytes > 0) {
       ++m_stats.messages;
-      m_stats.bytes += static_cast<long long>(send[r].size());
+      m_stats.bytes += static_cast<long long>(send[k].bytes);
       req.emplace_back();
-      MPI_Isend(send[r].data(), static_cast<int>(send[r].size()), MPI_BYTE, r, kTag, m_comm, &req.back());
+      MPI_Isend(send[k].data, static_cast<int>(send[k].bytes), MPI_BYTE, send[k].rank, kTag, m_comm,
+                &req.back());
     }
   if (!req.empty())
     MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
@@ -353,6 +366,7 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
 }
 void Communicator::neighbor_exchange_bytes(std::vector<std::vector<char>> const &,
                                            std::vector<std::vector<char>> &) const {}
+void Communicator::neighbor_exchange_blocks(Block const *, int, Block const *, int) const {}
 void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &,
                                                std::vector<std::vector<char>> const &,
                                                std::vector<std::vector<char>> &) const {}

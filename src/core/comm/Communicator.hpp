@@ -112,6 +112,18 @@ public:
    * part. Every rank of the group must call it (an empty call is free). */
   void neighbor_exchange_bytes(std::vector<std::vector<char>> const &send,
                                std::vector<std::vector<char>> &recv) const;
+  /** One block of a neighbour exchange: @p bytes at @p data to or from @p rank. */
+  struct Block {
+    int rank;
+    void *data;
+    std::size_t bytes;
+  };
+  /** neighbor_exchange_bytes on caller-owned memory (no buffer copies or
+   * resizes here): the @p n_send blocks of @p send go out, the @p n_recv
+   * blocks of @p recv are filled; both sides must agree on the sizes and,
+   * for several blocks between two ranks, on their order. Empty blocks and
+   * blocks for this rank are skipped. Every rank of the group must call it. */
+  void neighbor_exchange_blocks(Block const *send, int n_send, Block const *recv, int n_recv) const;
   /** Neighbour exchange of blocks of any size with the ranks @p nbrs (which
    * must be symmetric: q lists this rank iff this rank lists q): @p send[q]
    * goes to each q of @p nbrs (one message each, also when empty) and
