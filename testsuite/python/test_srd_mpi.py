@@ -82,6 +82,21 @@ def test_stick_colloid_same_trajectory(colloid_runs, ranks):
     assert one["cpos"][0] > 4.5
 
 
+@pytest.fixture(scope="module")
+def fluid_runs():
+    return {n: run("srd_fluid", n) for n in (1, 2, 3, 4, 8)}
+
+
+# the pure fluid: the particles leaving a domain are listed by the streaming
+# step (no colloid), migrated at the collision; 8 ranks as 2 x 2 x 2
+@pytest.mark.parametrize("ranks", [2, 3, 4, 8])
+def test_pure_fluid_same_trajectory(fluid_runs, ranks):
+    one, many = fluid_runs[1], fluid_runs[ranks]
+    assert int(one["n_collisions"]) == 100 and int(many["ranks"]) == ranks
+    assert int(np.prod(many["node_grid"])) == ranks
+    assert_same(one, many)
+
+
 def test_andersen_angular_same_trajectory():
     # 25 collisions (see scene_srd_at); with exact cell sums bit for bit
     one, two = run("srd_at", 1), run("srd_at", 2)
