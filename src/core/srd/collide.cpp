@@ -204,28 +204,44 @@ void Fluid::migrate(System &s) {
     }
   }
   std::vector<std::vector<SrdRecord>> send(comm.size());
-  if (!m_leave.empty()) {
-    int keep = m_leave.front();
-    std::size_t next = 0;
-    for (int i = keep; i < n; ++i) {
-      if (next < m_leave.size() && m_leave[next] == i) {
-        ++next;
-        std::array<int, 3> c{};
-        for (int d = 0; d < 3; ++d)
-          c[d] = static_cast<int>(std::clamp(std::floor(pos[i][d] / (L[d] / ng[d])), 0., static_cast<double>(ng[d] - 1)));
-        send[CellSystem::rank_at(ng, c)].push_back({pos[i], v[i], id[i], type[i]});
+  for (int i : m_leave) {
+    std::array<int, 3> c{};
+    for (int d = 0; d < 3; ++d)
+      c[d] = static_cast<int>(std::clamp(std::floor(pos[i][d] / (L[d] / ng[d])), 0., static_cast<double>(ng[d] - 1)));
+    send[CellSystem::rank_at(ng, c)].push_back({pos[i], v[i], id[i], type[i]});
+  }
+  auto const recv = comm.alltoallv(send);
+  // the arrivals fill the holes of the leavers, then are appended, or the
+  // last particles fill the remaining holes: O(moved particles), no pass
+  // over the arrays (the storage order is not the ids' on several ranks
+  // anyway; the cell sums do not depend on it)
+  std::size_t h = 0;
+  auto put = [&](int i, SrdRecord const &rec) { pos[i] = rec.pos, v[i] = rec.v, id[i] = rec.id, type[i] = rec.type; };
+  for (auto const &from : recv)
+    for (auto const &rec : from) {
+      if (h < m_leave.size()) {
+        put(m_leave[h++], rec);
       } else {
-        pos[keep] = pos[i], v[keep] = v[i], id[keep] = id[i], type[keep] = type[i];
-        ++keep;
+        pos.push_back(rec.pos), v.push_back(rec.v), id.push_back(rec.id), type.push_back(rec.type);
       }
     }
+  if (h < m_leave.size()) {
+    // holes m_leave[h..) (ascending): fill each from the last particle that is no hole
+    int last = size() - 1;
+    std::size_t top = m_leave.size(); // holes [h, top) still open
+    while (h < top) {
+      if (last == m_leave[top - 1]) { // the last one is a hole itself: drop it
+        --top, --last;
+        continue;
+      }
+      int const i = m_leave[h++];
+      pos[i] = pos[last], v[i] = v[last], id[i] = id[last], type[i] = type[last];
+      --last;
+    }
+    int const keep = last + 1;
     pos.resize(keep), v.resize(keep), id.resize(keep), type.resize(keep);
   }
   m_leave.clear();
-  auto const recv = comm.alltoallv(send);
-  for (auto const &from : recv)
-    for (auto const &rec : from)
-      pos.push_back(rec.pos), v.push_back(rec.v), id.push_back(rec.id), type.push_back(rec.type);
 }
 
 void Fluid::collide(System &s) {
