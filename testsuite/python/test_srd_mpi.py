@@ -7,7 +7,9 @@ particle ids, the collision cells straddling the domain faces have their
 (exact, integer) sums exchanged with the ranks they overlap (a neighbour
 exchange, 8 ranks at a 2x2x2 corner), every rank runs the same event-ordered
 sequence of colloid bounces, and each rank sorts only its local cell grid.
-Also: the Andersen rule with angular-momentum conservation, the
+Also: a pure fluid drifting across the domains (the particles leaving a
+domain are listed by the streaming step and migrated at the collision), the
+Andersen rule with angular-momentum conservation, the
 cell thermostat, stochastic Couette walls split across ranks, checkpoints
 restored on another rank count, and H5MD output written by 2 ranks. Each scene runs in its own `mpiexec`
 (testsuite/python/mpi_scenes.py)."""
