@@ -182,7 +182,8 @@ private:
     std::array<std::vector<int>, 3> glob, beg, lst;
     std::array<std::vector<char>, 3> mine, multi;
     std::vector<std::pair<int, int>> found;
-    std::vector<int> shared;
+    std::vector<int> shared, shared_g; // local and global index
+    std::array<std::vector<double>, 3> axis; // rotation axes of the shared cells
     std::vector<std::vector<int>> peer_cells;
     std::vector<double> bufA, bufB;
     std::vector<std::vector<char>> send, recv;

@@ -387,6 +387,7 @@ void Fluid::collide(System &s) {
   auto &shared = par.shared; // this rank's shared cells (local index), ascending global index
   auto &peer_cells = par.peer_cells; // per rank q: slots shared with q, ascending
   shared.clear();
+  par.shared_g.clear();
   if (comm.parallel()) {
     int const me = comm.rank();
     int const mc[3] = {me / (ng[1] * ng[2]), (me / ng[2]) % ng[1], me % ng[2]};
@@ -472,6 +473,7 @@ void Fluid::collide(System &s) {
       int const slot = static_cast<int>(shared.size());
       m_slot[lc] = slot;
       shared.push_back(lc);
+      par.shared_g.push_back(g);
       int const l[3] = {lc / (ldim[1] * ldim[2]), (lc / ldim[2]) % ldim[1], lc % ldim[2]};
       auto const &B0 = par.beg[0], &B1 = par.beg[1], &B2 = par.beg[2];
       for (int a = B0[l[0]]; a < B0[l[0] + 1]; ++a)
@@ -669,12 +671,6 @@ void Fluid::collide(System &s) {
   // the cells in blocks: first the rotation axes of the block (SIMD lanes),
   // then its cells
   auto const akey = axis_key(m_p.seed, c);
-  auto axis_of = [&](int gg) {
-    Vector3d x{};
-    if (!at)
-      cell_axis(akey, static_cast<std::uint32_t>(gg), x[0], x[1], x[2]);
-    return x;
-  };
   constexpr int kBlock = 128;
   std::array<int, kBlock> bg{};
   std::array<double, kBlock> bx{}, by{}, bz{};
@@ -770,6 +766,13 @@ void Fluid::collide(System &s) {
   if (comm.parallel()) {
     exchange(bufA, nA, usedA);
     std::vector<Mean> ms(shared.size());
+    // the rotation axes of the shared cells, all at once (SIMD lanes, the
+    // same bits as one at a time)
+    auto const &sg = par.shared_g;
+    auto &sx = par.axis[0], &sy = par.axis[1], &sz = par.axis[2];
+    sx.resize(sg.size()), sy.resize(sg.size()), sz.resize(sg.size());
+    if (!at && !sg.empty())
+      cell_axes(akey, sg.data(), static_cast<int>(sg.size()), sx.data(), sy.data(), sz.data());
     for (std::size_t k = 0; k < shared.size(); ++k) {
       double const *Ak = &bufA[k * nA];
       too_fast |= !(Ak[0] < kCellLimit);
@@ -777,7 +780,7 @@ void Fluid::collide(System &s) {
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
-      stage1(axis_of(global_of(g)), m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
+      stage1(Vector3d{sx[k], sy[k], sz[k]}, m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
     }
     if (thermo || ang)
       exchange(bufB, nB, usedB);
@@ -786,7 +789,7 @@ void Fluid::collide(System &s) {
         continue;
       int const g = shared[k];
       if (m_count[g + 1] > m_count[g])
-        stage2(global_of(g), m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
+        stage2(sg[k], m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
     }
   }
   if (comm.any(too_fast))
