@@ -11,7 +11,10 @@ that build is timed in each round too (its own process), for the gain of this
 build measured in the same conditions (median of the per-round ratios).
 With --ranks 1 2 it measures instead the wall-clock rate of the same fluid on
 1 and 2 MPI ranks (each run its own `mpiexec -n R`, interleaved rounds,
-medians; speed-up = median of the per-round ratios), written to
+medians; speed-up = median of the per-round ratios) and the CPU time per
+particle-collision-step summed over the ranks, in all and outside MPI calls
+(MPI polls while it waits, so on a busy machine the total grows with the
+load, the part outside MPI much less), written to
 bench/results/srd_throughput_ranks.json.
 
     build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
@@ -132,10 +135,14 @@ def worker(N, steps):
     s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=1)
     srd.add_fluid(s, density=5, type=0, kT=1.0, seed=2)
     s.integrator.run(5)
-    t0 = time.perf_counter()
+    s._core.reset_comm_stats()
+    t0, c0 = time.perf_counter(), time.process_time()
     s.integrator.run(steps)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    mpi_cpu = dict(s._core.comm_stats())["cpu_seconds"]
     n = s.srd.n
+    # every rank: its CPU time, and the part inside MPI calls (waits poll: CPU)
+    print(f"CPU {marble.mpi_rank()} {cpu!r} {mpi_cpu!r}", flush=True)
     if marble.mpi_rank() == 0:
         print(f"WALL {wall!r} N {n}", flush=True)
 
@@ -148,9 +155,14 @@ def ranks_rate(N, steps, ranks):
            "--worker", str(N), str(steps)]
     out = subprocess.run(cmd, capture_output=True, text=True, env=env)
     m = re.search(r"WALL ([0-9.eE+-]+) N (\d+)", out.stdout)
-    if not m:
+    cpus = re.findall(r"CPU (\d+) ([0-9.eE+-]+) ([0-9.eE+-]+)", out.stdout)
+    if not m or len(cpus) != ranks:
         raise RuntimeError(" ".join(cmd) + " failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
-    return int(m.group(2)) * steps / float(m.group(1))
+    n_ps = int(m.group(2)) * steps
+    # wall-clock rate; CPU per particle-step summed over the ranks, and that part outside MPI calls
+    cpu = sum(float(c[1]) for c in cpus)
+    work = sum(float(c[1]) - float(c[2]) for c in cpus)
+    return n_ps / float(m.group(1)), cpu / n_ps, work / n_ps
 
 
 def baseline_rate(N, steps):
@@ -180,18 +192,29 @@ if args.ranks:
         N = int(N)
         steps = max(5, int(2 * args.work / N))
         rates = {r: [] for r in args.ranks}
+        cpus = {r: [] for r in args.ranks}
+        works = {r: [] for r in args.ranks}
+        loads = []
         for _ in range(args.rounds):
+            loads.append(os.getloadavg()[0])
             for r in args.ranks:
-                rates[r].append(ranks_rate(N, steps, r))
+                rate, cpu, work = ranks_rate(N, steps, r)
+                rates[r].append(rate), cpus[r].append(cpu), works[r].append(work)
         r0 = args.ranks[0]
+        med = lambda d: {str(r): float(np.median(v)) for r, v in d.items()}
         row = dict(N=int(5 * round((N / 5) ** (1 / 3)) ** 3), steps=steps,
-                   rate={str(r): float(np.median(v)) for r, v in rates.items()},
-                   rate_all={str(r): v for r, v in rates.items()},
+                   rate=med(rates), rate_all={str(r): v for r, v in rates.items()},
                    speedup={str(r): float(np.median(np.array(v) / np.array(rates[r0])))
-                            for r, v in rates.items()})
+                            for r, v in rates.items()},
+                   cpu_ns_per_particle_step=med({r: 1e9 * np.array(v) for r, v in cpus.items()}),
+                   work_ns_per_particle_step=med({r: 1e9 * np.array(v) for r, v in works.items()}),
+                   cpu_all={str(r): v for r, v in cpus.items()}, work_all={str(r): v for r, v in works.items()},
+                   load_average=loads)
         res["sizes"].append(row)
-        print(f"N = {row['N']}: " + ", ".join(f"{r} ranks {row['rate'][str(r)]:.3g}/s (x{row['speedup'][str(r)]:.2f})"
-                                               for r in args.ranks), flush=True)
+        print(f"N = {row['N']} (load average {min(loads):.1f}-{max(loads):.1f}): " + ", ".join(
+            f"{r} ranks {row['rate'][str(r)]:.3g}/s (x{row['speedup'][str(r)]:.2f}), CPU "
+            f"{row['cpu_ns_per_particle_step'][str(r)]:.1f} ns per particle-step summed over ranks "
+            f"(outside MPI {row['work_ns_per_particle_step'][str(r)]:.1f})" for r in args.ranks), flush=True)
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
     with open(os.path.join(HERE, "results", "srd_throughput_ranks.json"), "w") as f:
         json.dump(res, f, indent=1)

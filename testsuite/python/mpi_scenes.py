@@ -374,6 +374,23 @@ def scene_srd_thermo():
     return scene_srd_colloid(angle=130.0, thermostat="mbs")
 
 
+def scene_srd_fluid(collisions=100):
+    """Pure SRD fluid (no colloid: the streaming step lists the particles that
+    leave the rank's domain for the next migration) in a 12 x 8 x 8 box
+    drifting at (0.9, -0.5, 0.3), so many particles change rank; tau = 2
+    time steps."""
+    import marble.srd as srd
+    s = marble.System(box_l=[12.0, 8.0, 8.0], time_step=0.05)
+    s.cell_system.skin = 0.4
+    s.srd = srd.SRDFluid(types=[0], tau=0.1, kT=1.0, seed=31, angle=130.0)
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=32)
+    s.srd.v = s.srd.v + np.array([0.9, -0.5, 0.3])
+    s.integrator.run(2 * collisions)
+    out = _srd_state(s)
+    out["node_grid"] = np.array(s.cell_system.node_grid)
+    return s, out
+
+
 def scene_srd_walls(collisions=100):
     """SRD channel: stochastic walls at z = 1.25 and 7 (inside the box) moving at
     +-0.2 (Couette), split in z on 2 ranks."""

@@ -7,7 +7,9 @@ particle ids, the collision cells straddling the domain faces have their
 (exact, integer) sums exchanged with the ranks they overlap (a neighbour
 exchange, 8 ranks at a 2x2x2 corner), every rank runs the same event-ordered
 sequence of colloid bounces, and each rank sorts only its local cell grid.
-Also: the Andersen rule with angular-momentum conservation, the
+Also: a pure fluid drifting across the domains (the particles leaving a
+domain are listed by the streaming step and migrated at the collision), the
+Andersen rule with angular-momentum conservation, the
 cell thermostat, stochastic Couette walls split across ranks, checkpoints
 restored on another rank count, and H5MD output written by 2 ranks. Each scene runs in its own `mpiexec`
 (testsuite/python/mpi_scenes.py)."""
@@ -80,6 +82,21 @@ def test_stick_colloid_same_trajectory(colloid_runs, ranks):
     # the colloid took momentum from the fluid and crossed a domain face (x = 4)
     assert np.abs(one["to_colloids"]).max() > 1.0
     assert one["cpos"][0] > 4.5
+
+
+@pytest.fixture(scope="module")
+def fluid_runs():
+    return {n: run("srd_fluid", n) for n in (1, 2, 3, 4, 8)}
+
+
+# the pure fluid: the particles leaving a domain are listed by the streaming
+# step (no colloid), migrated at the collision; 8 ranks as 2 x 2 x 2
+@pytest.mark.parametrize("ranks", [2, 3, 4, 8])
+def test_pure_fluid_same_trajectory(fluid_runs, ranks):
+    one, many = fluid_runs[1], fluid_runs[ranks]
+    assert int(one["n_collisions"]) == 100 and int(many["ranks"]) == ranks
+    assert int(np.prod(many["node_grid"])) == ranks
+    assert_same(one, many)
 
 
 def test_andersen_angular_same_trajectory():

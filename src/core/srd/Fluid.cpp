@@ -393,6 +393,7 @@ constexpr int kMaxEventBounces = 8; // per particle and step (then the end-of-st
 
 void Fluid::stream(System &s, double dt) {
   m_ia = &s.interactions();
+  m_leave_valid = false;
   auto const &box = s.box();
   auto const &L = box.length();
   int const n = size();
@@ -413,10 +414,29 @@ void Fluid::stream(System &s, double dt) {
   auto cols = colloids_of(s, *this);
   double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
   if (cols.empty()) {
+    // on several ranks, before a collision: list the particles that leave
+    // this rank's domain (for the migration; no pass of its own)
+    bool const track = s.comm().parallel() && m_n_tau > 0 &&
+                       (m_n_streams + 1) % static_cast<std::uint64_t>(m_n_tau) == 0;
+    if (!track) {
+      for (int i = 0; i < n; ++i) {
+        pos[i] += dt_free * v[i];
+        fold(pos[i], L);
+      }
+      return;
+    }
+    auto const dom = domain_box(s);
+    double const lo0 = dom[0].first, hi0 = dom[0].second, lo1 = dom[1].first, hi1 = dom[1].second,
+                 lo2 = dom[2].first, hi2 = dom[2].second;
+    m_leave.clear();
     for (int i = 0; i < n; ++i) {
       pos[i] += dt_free * v[i];
       fold(pos[i], L);
+      auto const &x = pos[i];
+      if (!(x[0] >= lo0 && x[0] < hi0 && x[1] >= lo1 && x[1] < hi1 && x[2] >= lo2 && x[2] < hi2)) [[unlikely]]
+        m_leave.push_back(i);
     }
+    m_leave_valid = true;
     return;
   }
   auto &ps = s.particles();
@@ -903,6 +923,7 @@ void Fluid::md_step(System &s) {
   ++m_n_streams;
   if (m_n_tau > 0 && m_n_streams % static_cast<std::uint64_t>(m_n_tau) == 0)
     collide(s);
+  m_leave_valid = false;
 }
 
 } // namespace Marble::Srd

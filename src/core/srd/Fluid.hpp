@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace Marble {
@@ -135,6 +136,10 @@ public:
   void collide(System &s);
   /** Send every SRD particle to the rank whose domain holds it. Collective. */
   void migrate(System &s);
+  /** This rank's domain as [lo, hi) per axis (+-infinity along an axis not
+   * split between ranks): a position is this rank's (CellSystem::owner_rank)
+   * iff it lies inside, bit for bit. */
+  std::array<std::pair<double, double>, 3> domain_box(System &s) const;
   /** Number of SRD particles on all ranks. Collective. */
   long long global_size(System const &s) const;
   /** Forget the cell index of the last collision (after particles were
@@ -166,6 +171,23 @@ private:
   // collision scratch
   std::vector<int> m_cell, m_count, m_start, m_id2, m_t2, m_slot;
   std::vector<Utils::Vector3d> m_p2, m_v2, m_xi, m_r;
+  // parallel collision scratch (collide.cpp), kept between collisions (no
+  // allocations per collision once the sizes settled): per axis of the local
+  // grid the global coordinate of each local one, and the node coordinates
+  // (domain slabs) a cell of that coordinate overlaps (CSR: lst[beg[l],
+  // beg[l + 1])), whether this rank's is among them and whether there are
+  // several; the shared cells (global, local index) and per rank the slots
+  // shared with it; the cell sums of the shared cells; the message buffers
+  struct ParallelScratch {
+    std::array<std::vector<int>, 3> glob, beg, lst;
+    std::array<std::vector<char>, 3> mine, multi;
+    std::vector<std::pair<int, int>> found;
+    std::vector<int> shared, shared_g; // local and global index
+    std::array<std::vector<double>, 3> axis; // rotation axes of the shared cells
+    std::vector<std::vector<int>> peer_cells;
+    std::vector<double> bufA, bufB;
+    std::vector<std::vector<char>> send, recv;
+  } m_par;
   // colloid search (stream): the particles are in the cell order of the
   // last collision (m_count: cell starts); m_disp bounds how far any
   // particle moved since, m_vmax the speeds; particles bounced off a colloid
@@ -178,6 +200,11 @@ private:
   std::vector<std::uint64_t> m_hit;
   std::vector<int> m_loose;
   std::vector<char> m_is_loose;
+  // the particles that left this rank's domain (ascending index), listed by
+  // the streaming step just before a collision (m_leave_valid), used and
+  // cleared by the migration of that collision
+  std::vector<int> m_leave;
+  bool m_leave_valid = false;
 };
 
 } // namespace Srd

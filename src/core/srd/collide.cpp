@@ -26,6 +26,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace Marble::Srd {
 
@@ -137,28 +139,109 @@ struct SrdRecord {
 static_assert(std::is_trivially_copyable_v<SrdRecord>);
 } // namespace
 
+std::array<std::pair<double, double>, 3> Fluid::domain_box(System &s) const {
+  std::array<std::pair<double, double>, 3> out;
+  double const inf = std::numeric_limits<double>::infinity();
+  out.fill({-inf, inf});
+  auto const &comm = s.comm();
+  if (!comm.parallel())
+    return out;
+  auto const &box = s.box();
+  auto const ng = s.cells().node_grid(box);
+  auto const &L = box.length();
+  int const me = comm.rank();
+  int const mc[3] = {me / (ng[1] * ng[2]), (me / ng[2]) % ng[1], me % ng[2]};
+  for (int d = 0; d < 3; ++d) {
+    if (ng[d] < 2)
+      continue;
+    double const dl = L[d] / ng[d];
+    // the node coordinate of CellSystem::owner_rank, clamp(floor(x / dl)), is
+    // monotonic in x: the slab is [first x of coordinate mc, first x of mc + 1)
+    auto coord = [&](double x) { return std::clamp(std::floor(x / dl), 0., static_cast<double>(ng[d] - 1)); };
+    auto first_at = [&](int j) {
+      if (j <= 0)
+        return -inf;
+      if (j >= ng[d])
+        return inf;
+      double x = j * dl;
+      while (coord(x) >= j)
+        x = std::nextafter(x, -inf);
+      while (coord(x) < j)
+        x = std::nextafter(x, inf);
+      return x;
+    };
+    out[d] = {first_at(mc[d]), first_at(mc[d] + 1)};
+  }
+  return out;
+}
+
 void Fluid::migrate(System &s) {
   auto const &comm = s.comm();
+  bool const listed = m_leave_valid;
+  m_leave_valid = false;
   if (!comm.parallel())
     return;
   auto const &box = s.box();
-  int const me = comm.rank();
-  std::vector<std::vector<SrdRecord>> send(comm.size());
-  int keep = 0;
-  for (int i = 0; i < size(); ++i) {
-    int const r = s.cells().owner_rank(pos[i], box);
-    if (r == me) {
-      pos[keep] = pos[i], v[keep] = v[i], id[keep] = id[i], type[keep] = type[i];
-      ++keep;
-    } else {
-      send[r].push_back({pos[i], v[i], id[i], type[i]});
+  // the owner rank of CellSystem::owner_rank (node coordinate
+  // clamp(floor(x / (L/g)))) with the node grid found once, not per
+  // particle; whether a particle stays by comparisons with this rank's slab
+  // bounds (domain_box: the same answer). The particles that left are listed
+  // by the streaming step before the collision (pure fluid: fused with the
+  // streaming loop, no pass of its own), else found by a scan.
+  auto const ng = s.cells().node_grid(box);
+  auto const &L = box.length();
+  auto const dom = domain_box(s);
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d)
+    lo[d] = dom[d].first, hi[d] = dom[d].second;
+  int const n = size();
+  if (!listed) {
+    m_leave.clear();
+    for (int i = 0; i < n; ++i) {
+      auto const &x = pos[i];
+      if (!(x[0] >= lo[0] && x[0] < hi[0] && x[1] >= lo[1] && x[1] < hi[1] && x[2] >= lo[2] && x[2] < hi[2]))
+        [[unlikely]] m_leave.push_back(i);
     }
   }
-  pos.resize(keep), v.resize(keep), id.resize(keep), type.resize(keep);
+  std::vector<std::vector<SrdRecord>> send(comm.size());
+  for (int i : m_leave) {
+    std::array<int, 3> c{};
+    for (int d = 0; d < 3; ++d)
+      c[d] = static_cast<int>(std::clamp(std::floor(pos[i][d] / (L[d] / ng[d])), 0., static_cast<double>(ng[d] - 1)));
+    send[CellSystem::rank_at(ng, c)].push_back({pos[i], v[i], id[i], type[i]});
+  }
   auto const recv = comm.alltoallv(send);
+  // the arrivals fill the holes of the leavers, then are appended, or the
+  // last particles fill the remaining holes: O(moved particles), no pass
+  // over the arrays (the storage order is not the ids' on several ranks
+  // anyway; the cell sums do not depend on it)
+  std::size_t h = 0;
+  auto put = [&](int i, SrdRecord const &rec) { pos[i] = rec.pos, v[i] = rec.v, id[i] = rec.id, type[i] = rec.type; };
   for (auto const &from : recv)
-    for (auto const &rec : from)
-      pos.push_back(rec.pos), v.push_back(rec.v), id.push_back(rec.id), type.push_back(rec.type);
+    for (auto const &rec : from) {
+      if (h < m_leave.size()) {
+        put(m_leave[h++], rec);
+      } else {
+        pos.push_back(rec.pos), v.push_back(rec.v), id.push_back(rec.id), type.push_back(rec.type);
+      }
+    }
+  if (h < m_leave.size()) {
+    // holes m_leave[h..) (ascending): fill each from the last particle that is no hole
+    int last = size() - 1;
+    std::size_t top = m_leave.size(); // holes [h, top) still open
+    while (h < top) {
+      if (last == m_leave[top - 1]) { // the last one is a hole itself: drop it
+        --top, --last;
+        continue;
+      }
+      int const i = m_leave[h++];
+      pos[i] = pos[last], v[i] = v[last], id[i] = id[last], type[i] = type[last];
+      --last;
+    }
+    int const keep = last + 1;
+    pos.resize(keep), v.resize(keep), id.resize(keep), type.resize(keep);
+  }
+  m_leave.clear();
 }
 
 void Fluid::collide(System &s) {
@@ -205,8 +288,9 @@ void Fluid::collide(System &s) {
   }
   Utils::Vector3i const ldim{ax[0].ext, ax[1].ext, ax[2].ext};
   int const n_cells = ldim[0] * ldim[1] * ldim[2];
+  auto &par = m_par;
   // global coordinate of local coordinate l along d
-  std::array<std::vector<int>, 3> glob;
+  auto &glob = par.glob;
   for (int d = 0; d < 3; ++d) {
     glob[d].resize(ldim[d]);
     for (int l = 0; l < ldim[d]; ++l) {
@@ -223,24 +307,6 @@ void Fluid::collide(System &s) {
     int const l2 = lc % ldim[2], l1 = (lc / ldim[2]) % ldim[1], l0 = lc / (ldim[1] * ldim[2]);
     return (glob[0][l0] * gdim[1] + glob[1][l1]) * gdim[2] + glob[2][l2];
   };
-  bool bad_cell = false;
-  auto cell_coord = [&](double x, int d) {
-    // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: k in [-1, n_d];
-    // floor by truncation and correction (no libm call), the periodic wrap
-    // without an integer division where k is in [-n_d, 2 n_d)
-    int k = floor_to_int((x - shift[d]) * inv_a0);
-    if (ax[d].mode == 2)
-      k = std::clamp(k + 1, 0, gdim[d] - 1);
-    else if (ax[d].mode == 0) {
-      return periodic_cell(k, m_grid[d]);
-    }
-    k -= ax[d].off;
-    if (k < 0 || k >= ax[d].ext) [[unlikely]] {
-      bad_cell = true;
-      return 0;
-    }
-    return k;
-  };
   // counting sort of the particles into the shifted cells (local grid)
   m_cell.resize(n);
   m_count.assign(n_cells + 1, 0);
@@ -256,17 +322,37 @@ void Fluid::collide(System &s) {
       ++cnt[g + 1];
     }
   } else {
+    // x in [0, L) (or slightly outside), shift in (-a0/2, a0/2]: raw index
+    // k in [-1, n_d]; floor by truncation and correction (no libm call), the
+    // periodic wrap without an integer division where k is in [-n_d, 2 n_d);
+    // a coordinate outside the local grid is flagged (and clamped)
+    unsigned bad = 0;
+    int mode[3], off[3], ext[3], nd[3], gd[3];
+    double sh[3];
+    for (int d = 0; d < 3; ++d)
+      mode[d] = ax[d].mode, off[d] = ax[d].off, ext[d] = ax[d].ext, nd[d] = m_grid[d], gd[d] = gdim[d],
+      sh[d] = shift[d];
+    auto coord = [&](double x, int d) {
+      int k = floor_to_int((x - sh[d]) * inv_a0);
+      if (mode[d] == 0)
+        return periodic_cell(k, nd[d]);
+      if (mode[d] == 2)
+        k = std::clamp(k + 1, 0, gd[d] - 1);
+      k -= off[d];
+      bad |= static_cast<unsigned>(k) >= static_cast<unsigned>(ext[d]);
+      return std::clamp(k, 0, ext[d] - 1);
+    };
+    int *__restrict cl = m_cell.data(), *__restrict cnt = m_count.data();
     for (int i = 0; i < n; ++i) {
-      int const g = (cell_coord(pos[i][0], 0) * ldim[1] + cell_coord(pos[i][1], 1)) * ldim[2] +
-                    cell_coord(pos[i][2], 2);
-      m_cell[i] = g;
-      ++m_count[g + 1];
+      int const g = (coord(pos[i][0], 0) * ldim[1] + coord(pos[i][1], 1)) * ldim[2] + coord(pos[i][2], 2);
+      cl[i] = g;
+      ++cnt[g + 1];
     }
+    if (bad)
+      throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(comm.rank()) +
+                                " holds a particle outside its domain's collision cells (internal error: "
+                                "particle migration)");
   }
-  if (bad_cell)
-    throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(comm.rank()) +
-                              " holds a particle outside its domain's collision cells (internal error: "
-                              "particle migration)");
   for (int g = 0; g < n_cells; ++g)
     m_count[g + 1] += m_count[g];
   m_start.assign(m_count.begin(), m_count.end() - 1);
@@ -285,51 +371,35 @@ void Fluid::collide(System &s) {
   }
   pos.swap(m_p2), v.swap(m_v2), id.swap(m_id2), type.swap(m_t2);
 
-  // cells shared between ranks: candidates are the slabs of cells next to
-  // every domain face (the cell holding the face and its two neighbours);
-  // for each candidate the ranks whose domain it overlaps (from the geometry
-  // alone: the same answer on every rank). A cell touched by this rank and another one
-  // gets a slot in `shared` (ascending global index); its sums are exchanged with the
-  // other touching ranks only (neighbour exchange) and added (exactly), so
-  // every touching rank gets the same bits.
-  std::vector<int> shared;                  // this rank's shared cells (local index), ascending global index
-  std::vector<std::vector<int>> shared_ranks; // their touching ranks, ascending
-  std::vector<std::vector<int>> peer_cells;   // per rank q: slots shared with q, ascending
+  // Cells shared between ranks. Along each axis, a cell of global coordinate
+  // k can hold positions of the domain slabs (node coordinates) its extent
+  // x in [shift + r a0, shift + (r + 1) a0) n [0, L) overlaps (r = k - 1 on a
+  // wall axis; k and its periodic images in [-1, n] otherwise), widened by a
+  // tolerance (an extra rank only exchanges zeros): from the geometry alone,
+  // the same answer on every rank. The ranks a cell overlaps are the product
+  // of its three axes' lists; a cell is this rank's if its node coordinate is
+  // in all three, shared if in addition some list has several entries (only
+  // the cells next to a domain face: the work is O(face cells), not
+  // O(local cells)). Shared cells get slots in the order of their global
+  // index (the same order on every rank); their sums are exchanged with the
+  // other touching ranks only (point to point, sizes known on both sides)
+  // and added (exactly: the same bits on every touching rank, in any order).
+  auto &shared = par.shared; // this rank's shared cells (local index), ascending global index
+  auto &peer_cells = par.peer_cells; // per rank q: slots shared with q, ascending
+  shared.clear();
+  par.shared_g.clear();
   if (comm.parallel()) {
     int const me = comm.rank();
+    int const mc[3] = {me / (ng[1] * ng[2]), (me / ng[2]) % ng[1], me % ng[2]};
     m_slot.assign(n_cells, -1);
-    // per axis: the global coordinates in a face slab
-    std::array<std::vector<char>, 3> slab;
     for (int d = 0; d < 3; ++d) {
-      slab[d].assign(gdim[d], 0);
-      if (ng[d] < 2)
-        continue;
-      for (int j = 0; j < ng[d]; ++j) {
-        double const face = j * (L[d] / ng[d]);
-        int const kf = static_cast<int>(std::floor((face - shift[d]) * inv_a0));
-        for (int dk = -1; dk <= 1; ++dk) {
-          int k = kf + dk;
-          if (d == m_p.wall_axis) {
-            k += 1;
-            if (k >= 0 && k < gdim[d])
-              slab[d][k] = 1;
-          } else {
-            k %= m_grid[d];
-            slab[d][k < 0 ? k + m_grid[d] : k] = 1;
-          }
-        }
-      }
-    }
-    // domain slabs along d that positions of cell coordinate k can lie in:
-    // x in [shift + r a0, shift + (r + 1) a0) n [0, L) for the raw index r
-    // (k - 1 on a wall axis; k and its periodic images in [-1, n] otherwise),
-    // widened by a tolerance (an extra rank only exchanges zeros)
-    std::array<std::vector<std::vector<int>>, 3> slabs_of;
-    for (int d = 0; d < 3; ++d) {
-      slabs_of[d].resize(gdim[d]);
+      auto &beg = par.beg[d], &lst = par.lst[d];
+      auto &mine = par.mine[d], &multi = par.multi[d];
+      beg.assign(1, 0), lst.clear(), mine.assign(ldim[d], 0), multi.assign(ldim[d], 0);
       double const dl = L[d] / ng[d], eps = 1e-9 * a0;
-      for (int k = 0; k < gdim[d]; ++k) {
-        auto &out = slabs_of[d][k];
+      for (int l = 0; l < ldim[d]; ++l) {
+        int const k = glob[d][l];
+        std::size_t const first = lst.size();
         auto add = [&](int r) {
           double const lo = std::max(0., shift[d] + r * a0 - eps);
           double const hi = std::min(L[d], shift[d] + (r + 1) * a0 + eps);
@@ -338,7 +408,7 @@ void Fluid::collide(System &s) {
           int const j0 = std::clamp(static_cast<int>(std::floor(lo / dl)), 0, ng[d] - 1);
           int const j1 = std::clamp(static_cast<int>(std::floor(hi / dl)), 0, ng[d] - 1);
           for (int j = j0; j <= j1; ++j)
-            out.push_back(j);
+            lst.push_back(j);
         };
         if (d == m_p.wall_axis) {
           add(k - 1);
@@ -347,49 +417,72 @@ void Fluid::collide(System &s) {
             if (r >= -1 && r <= m_grid[d])
               add(r);
         }
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
+        std::sort(lst.begin() + static_cast<std::ptrdiff_t>(first), lst.end());
+        lst.erase(std::unique(lst.begin() + static_cast<std::ptrdiff_t>(first), lst.end()), lst.end());
+        beg.push_back(static_cast<int>(lst.size()));
+        mine[l] = std::binary_search(lst.begin() + static_cast<std::ptrdiff_t>(first), lst.end(), mc[d]);
+        multi[l] = lst.size() - first >= 2;
       }
     }
-    peer_cells.assign(comm.size(), {});
-    std::vector<int> ranks;
-    struct SharedCell {
-      int g, lc;
-      std::vector<int> ranks;
-    };
-    std::vector<SharedCell> found;
-    for (int lc = 0; lc < n_cells; ++lc) {
-      int const l[3] = {lc / (ldim[1] * ldim[2]), (lc / ldim[2]) % ldim[1], lc % ldim[2]};
-      if (!slab[0][glob[0][l[0]]] && !slab[1][glob[1][l[1]]] && !slab[2][glob[2][l[2]]])
-        continue;
-      ranks.clear();
-      for (int a : slabs_of[0][glob[0][l[0]]])
-        for (int b : slabs_of[1][glob[1][l[1]]])
-          for (int cc : slabs_of[2][glob[2][l[2]]])
-            ranks.push_back(CellSystem::rank_at(ng, {a, b, cc}));
-      std::sort(ranks.begin(), ranks.end());
-      bool const mine = std::binary_search(ranks.begin(), ranks.end(), me);
-      if (!mine) {
-        if (m_count[lc + 1] > m_count[lc])
-          throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(me) +
-                                    " holds particles of collision cell " + std::to_string(global_of(lc)) +
-                                    " outside its domain (internal error: particle migration)");
-        continue;
+    // cells this rank holds particles of must be its own (else the migration failed)
+    for (int d = 0; d < 3; ++d)
+      for (int l = 0; l < ldim[d]; ++l) {
+        if (par.mine[d][l])
+          continue;
+        int lo[3] = {0, 0, 0}, hi[3] = {ldim[0], ldim[1], ldim[2]};
+        lo[d] = l, hi[d] = l + 1;
+        for (int a = lo[0]; a < hi[0]; ++a)
+          for (int b = lo[1]; b < hi[1]; ++b)
+            for (int e = lo[2]; e < hi[2]; ++e) {
+              int const lc = (a * ldim[1] + b) * ldim[2] + e;
+              if (m_count[lc + 1] > m_count[lc])
+                throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(me) +
+                                          " holds particles of collision cell " + std::to_string(global_of(lc)) +
+                                          " outside its domain (internal error: particle migration)");
+            }
       }
-      if (ranks.size() < 2)
-        continue; // only this rank: a local cell
-      found.push_back({global_of(lc), lc, ranks});
+    auto &found = par.found;
+    found.clear();
+    std::vector<int> multi2; // local z coordinates of this rank with several slabs
+    for (int l = 0; l < ldim[2]; ++l)
+      if (par.mine[2][l] && par.multi[2][l])
+        multi2.push_back(l);
+    for (int l0 = 0; l0 < ldim[0]; ++l0) {
+      if (!par.mine[0][l0])
+        continue;
+      for (int l1 = 0; l1 < ldim[1]; ++l1) {
+        if (!par.mine[1][l1])
+          continue;
+        int const row = (l0 * ldim[1] + l1) * ldim[2];
+        int const grow = (glob[0][l0] * gdim[1] + glob[1][l1]) * gdim[2];
+        if (par.multi[0][l0] || par.multi[1][l1]) {
+          for (int l2 = 0; l2 < ldim[2]; ++l2)
+            if (par.mine[2][l2])
+              found.emplace_back(grow + glob[2][l2], row + l2);
+        } else {
+          for (int l2 : multi2)
+            found.emplace_back(grow + glob[2][l2], row + l2);
+        }
+      }
     }
-    // slots in the order of the global index (the same order on every rank)
-    std::sort(found.begin(), found.end(), [](SharedCell const &x, SharedCell const &y) { return x.g < y.g; });
-    for (auto &f : found) {
+    std::sort(found.begin(), found.end());
+    peer_cells.resize(comm.size());
+    for (auto &pc : peer_cells)
+      pc.clear();
+    for (auto const &[g, lc] : found) {
       int const slot = static_cast<int>(shared.size());
-      m_slot[f.lc] = slot;
-      shared.push_back(f.lc);
-      for (int r : f.ranks)
-        if (r != me)
-          peer_cells[r].push_back(slot);
-      shared_ranks.push_back(std::move(f.ranks));
+      m_slot[lc] = slot;
+      shared.push_back(lc);
+      par.shared_g.push_back(g);
+      int const l[3] = {lc / (ldim[1] * ldim[2]), (lc / ldim[2]) % ldim[1], lc % ldim[2]};
+      auto const &B0 = par.beg[0], &B1 = par.beg[1], &B2 = par.beg[2];
+      for (int a = B0[l[0]]; a < B0[l[0] + 1]; ++a)
+        for (int b = B1[l[1]]; b < B1[l[1] + 1]; ++b)
+          for (int e = B2[l[2]]; e < B2[l[2] + 1]; ++e) {
+            int const r = CellSystem::rank_at(ng, {par.lst[0][a], par.lst[1][b], par.lst[2][e]});
+            if (r != me)
+              peer_cells[r].push_back(slot);
+          }
     }
   }
   auto slot_of = [&](int g) { return comm.parallel() ? m_slot[g] : -1; };
@@ -562,7 +655,12 @@ void Fluid::collide(System &s) {
   };
 
   // local cells: everything at once; shared cells: their A sums collected
-  std::vector<double> bufA(shared.size() * nA, 0.), bufB(shared.size() * nB, 0.);
+  // (only the sums in use: the count and the velocities; the Andersen draws
+  // with rule at; the positions with AT+a)
+  int const usedA = ang ? nA : at ? 13 : 7, usedB = ang ? nB : thermo ? 2 : 0;
+  auto &bufA = par.bufA, &bufB = par.bufB;
+  bufA.assign(shared.size() * nA, 0.);
+  bufB.assign(usedB ? shared.size() * nB : 0, 0.);
   double A[nA], B[nB];
   // the largest speed after the collision (the colloid search's displacement bound)
   double v2max = 0.;
@@ -573,22 +671,27 @@ void Fluid::collide(System &s) {
   // the cells in blocks: first the rotation axes of the block (SIMD lanes),
   // then its cells
   auto const akey = axis_key(m_p.seed, c);
-  auto axis_of = [&](int gg) {
-    Vector3d x{};
-    if (!at)
-      cell_axis(akey, static_cast<std::uint32_t>(gg), x[0], x[1], x[2]);
-    return x;
-  };
   constexpr int kBlock = 128;
   std::array<int, kBlock> bg{};
   std::array<double, kBlock> bx{}, by{}, bz{};
   for (int g0 = 0; g0 < n_cells; g0 += kBlock) {
     int const g1 = std::min(n_cells, g0 + kBlock);
-    if (!at) {
+    if (identity) {
       for (int g = g0; g < g1; ++g)
-        bg[g - g0] = global_of(g);
-      cell_axes(akey, bg.data(), g1 - g0, bx.data(), by.data(), bz.data());
+        bg[g - g0] = g;
+    } else { // the global indices of the block, stepping the local coordinates
+      int l2 = g0 % ldim[2], l1 = (g0 / ldim[2]) % ldim[1], l0 = g0 / (ldim[1] * ldim[2]);
+      for (int g = g0; g < g1; ++g) {
+        bg[g - g0] = (glob[0][l0] * gdim[1] + glob[1][l1]) * gdim[2] + glob[2][l2];
+        if (++l2 == ldim[2]) {
+          l2 = 0;
+          if (++l1 == ldim[1])
+            l1 = 0, ++l0;
+        }
+      }
     }
+    if (!at)
+      cell_axes(akey, bg.data(), g1 - g0, bx.data(), by.data(), bz.data());
     for (int g = g0; g < g1; ++g) {
       int const b = m_count[g], e = m_count[g + 1];
       if (e == b)
@@ -606,45 +709,70 @@ void Fluid::collide(System &s) {
       }
       sums_A(b, e, A, false);
       auto const m = means(A);
-      int const gg = global_of(g);
+      int const gg = bg[g - g0];
       stage1(Vector3d{bx[g - g0], by[g - g0], bz[g - g0]}, b, e, m, B);
       stage2(gg, b, e, m, B);
       speed2(b, e);
     }
   }
-  // shared cells: exchange the sums with the other touching ranks and add
-  // them in rank order (the same bits on every touching rank)
-  auto exchange = [&](std::vector<double> &buf, int nk) {
-    int const me = comm.rank();
-    std::vector<std::vector<double>> send(comm.size());
-    for (int q = 0; q < comm.size(); ++q)
-      for (int sl : peer_cells[q])
-        send[q].insert(send[q].end(), buf.begin() + static_cast<std::ptrdiff_t>(sl) * nk,
-                       buf.begin() + static_cast<std::ptrdiff_t>(sl + 1) * nk);
-    auto const recv = comm.alltoallv(send);
-    std::vector<std::size_t> at(comm.size(), 0);
-    for (int q = 0; q < comm.size(); ++q)
-      if (recv[q].size() != send[q].size())
-        throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(q) +
-                                  " sent " + std::to_string(recv[q].size()) + " shared-cell sums, rank " +
-                                  std::to_string(me) + " expected " + std::to_string(send[q].size()) +
-                                  " (internal error)");
-    std::vector<double> tot(static_cast<std::size_t>(nk));
-    for (std::size_t k = 0; k < shared.size(); ++k) {
-      std::fill(tot.begin(), tot.end(), 0.);
-      for (int r : shared_ranks[k]) {
-        double const *src = r == me ? &buf[k * nk] : &recv[r][at[r]];
-        for (int x = 0; x < nk; ++x)
-          tot[x] += src[x];
-        if (r != me)
-          at[r] += static_cast<std::size_t>(nk);
+  // shared cells: exchange the sums (the first @p nk of each slot's @p stride)
+  // with the other touching ranks, point to point (both sides know the sizes:
+  // no count exchange, no all-rank call; a leading count checks them), and
+  // add them: integer-valued doubles, exact, so the same bits on every
+  // touching rank whatever the order
+  auto exchange = [&](std::vector<double> &buf, int stride, int nk) {
+    int const me = comm.rank(), P = comm.size();
+    auto &send = par.send, &recv = par.recv;
+    send.resize(P), recv.resize(P);
+    for (int q = 0; q < P; ++q) {
+      auto const &pc = peer_cells[q];
+      std::size_t const bytes = pc.empty() ? 0 : (1 + pc.size() * static_cast<std::size_t>(nk)) * sizeof(double);
+      send[q].resize(bytes), recv[q].resize(bytes);
+      if (pc.empty())
+        continue;
+      char *dst = send[q].data();
+      double const head = static_cast<double>(pc.size());
+      std::memcpy(dst, &head, sizeof(double));
+      dst += sizeof(double);
+      for (int sl : pc) {
+        std::memcpy(dst, &buf[static_cast<std::size_t>(sl) * stride], nk * sizeof(double));
+        dst += nk * sizeof(double);
       }
-      std::copy(tot.begin(), tot.end(), buf.begin() + static_cast<std::ptrdiff_t>(k) * nk);
+    }
+    comm.neighbor_exchange_bytes(send, recv);
+    for (int q = 0; q < P; ++q) {
+      auto const &pc = peer_cells[q];
+      if (pc.empty())
+        continue;
+      char const *src = recv[q].data();
+      double head;
+      std::memcpy(&head, src, sizeof(double));
+      if (head != static_cast<double>(pc.size()))
+        throw Utils::RuntimeError("SRD collision " + std::to_string(c) + ": rank " + std::to_string(q) +
+                                  " sent " + std::to_string(head) + " shared-cell sums, rank " +
+                                  std::to_string(me) + " expected " + std::to_string(pc.size()) +
+                                  " (internal error)");
+      src += sizeof(double);
+      double t[nB];
+      for (int sl : pc) {
+        std::memcpy(t, src, nk * sizeof(double));
+        src += nk * sizeof(double);
+        double *x = &buf[static_cast<std::size_t>(sl) * stride];
+        for (int k = 0; k < nk; ++k)
+          x[k] += t[k];
+      }
     }
   };
   if (comm.parallel()) {
-    exchange(bufA, nA);
+    exchange(bufA, nA, usedA);
     std::vector<Mean> ms(shared.size());
+    // the rotation axes of the shared cells, all at once (SIMD lanes, the
+    // same bits as one at a time)
+    auto const &sg = par.shared_g;
+    auto &sx = par.axis[0], &sy = par.axis[1], &sz = par.axis[2];
+    sx.resize(sg.size()), sy.resize(sg.size()), sz.resize(sg.size());
+    if (!at && !sg.empty())
+      cell_axes(akey, sg.data(), static_cast<int>(sg.size()), sx.data(), sy.data(), sz.data());
     for (std::size_t k = 0; k < shared.size(); ++k) {
       double const *Ak = &bufA[k * nA];
       too_fast |= !(Ak[0] < kCellLimit);
@@ -652,16 +780,16 @@ void Fluid::collide(System &s) {
         continue;
       ms[k] = means(Ak);
       int const g = shared[k];
-      stage1(axis_of(global_of(g)), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+      stage1(Vector3d{sx[k], sy[k], sz[k]}, m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
     }
     if (thermo || ang)
-      exchange(bufB, nB);
+      exchange(bufB, nB, usedB);
     for (std::size_t k = 0; k < shared.size(); ++k) {
       if (bufA[k * nA] < 2.)
         continue;
       int const g = shared[k];
       if (m_count[g + 1] > m_count[g])
-        stage2(global_of(g), m_count[g], m_count[g + 1], ms[k], &bufB[k * nB]);
+        stage2(sg[k], m_count[g], m_count[g + 1], ms[k], usedB ? &bufB[k * nB] : B);
     }
   }
   if (comm.any(too_fast))
@@ -681,13 +809,13 @@ void Fluid::collide(System &s) {
   // m_hit holds stamps of streaming steps (older ones never match a later
   // stamp: no reset needed unless the size changed); m_is_loose is set
   // exactly at the indices listed in m_loose
-  if (static_cast<int>(m_hit.size()) != n)
-    m_hit.assign(n, 0);
-  if (static_cast<int>(m_is_loose.size()) != n)
-    m_is_loose.assign(n, 0);
-  else
-    for (int i : m_loose)
+  // (a size change, e.g. by migration, only zeroes the new entries: the old
+  // stamps never match, and the flags set are cleared where they were set)
+  m_hit.resize(n, 0);
+  for (int i : m_loose)
+    if (i < static_cast<int>(m_is_loose.size()))
       m_is_loose[i] = 0;
+  m_is_loose.resize(n, 0);
   m_loose.clear();
   m_index_valid = true;
   ++m_n_collisions;
