@@ -32,8 +32,11 @@ against Batchelor's 1.32); the error falls as 1/sqrt(time). The default run
 on one idle core.
 
 ``--boundary stick`` makes the colloids rotating no-slip spheres (setup_suspension's
-surface_friction, doc/suspensions.md section 7c); the default "slip" is seed 004's
-colloid, whose central colloid-solvent friction makes it a slipping sphere (section 7b).
+surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R = 1
+(core radius R/1.041, section 7d; ``--radius-calibration none`` builds the core R = 1
+as before); phi is then the hydrodynamic volume fraction and the cores' is printed
+too. The default "slip" is seed 004's colloid, whose central colloid-solvent
+friction makes it a slipping sphere (section 7b).
 
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
@@ -79,7 +82,7 @@ def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw)
         s.non_bonded_inter.reset()
         s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, r_cut=1.0)
-        info["n_colloids"], info["phi"] = 0, 0.0
+        info["n_colloids"], info["phi"], info["phi_core"] = 0, 0.0, 0.0
     s.integrator.set_shardlow()
     p = s.part.all()
     v = np.asarray(p.v)
@@ -120,6 +123,9 @@ def main():
     parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
                         help="stick: the friction of a bead inside several colloids' shells "
                              "(default setup_suspension's)")
+    parser.add_argument("--radius-calibration", default=None,
+                        help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
+                             "R/1.041, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
     parser.add_argument("--png", default="suspension_viscosity.png")
     args = parser.parse_args()
 
@@ -133,12 +139,16 @@ def main():
             stick["trans_gamma"] = args.trans_gamma
         if args.shared is not None:
             stick["shared"] = args.shared
+        if args.radius_calibration is not None:
+            rc = args.radius_calibration
+            stick["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
 
     def run(phi):
         s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,
                         **(stick if phi > 0 else {}))
         res = measure(s, args.g, args.time, equilibration=0.5 * args.equil if short else None)
-        print(f"phi = {info['phi']:.4f} ({info['n_colloids']} colloids, {len(s.part.all())} "
+        print(f"phi = {info['phi']:.4f} (cores {info['phi_core']:.4f}; {info['n_colloids']} colloids, "
+              f"{len(s.part.all())} "
               f"particles): eta = {res.eta:.4f} +/- {res.eta_err:.4f}, kT = {res.kT:.4f}, "
               f"v_max = {res.v_max:.3f}", flush=True)
         return info["phi"], res
