@@ -55,6 +55,8 @@ parser.add_argument("--radius-calibration", default=None,
                     help="setup_suspension's radius_calibration: 'none' (the core radius is R = 1: how the "
                          "ratio STICK_RADIUS_RATIO was measured), 'stick' (stick's default: R = 1 is the "
                          "hydrodynamic radius, the core R/1.041) or a number")
+parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
+                    help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--time", type=float, default=1000.0, help="production time")
 parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--force", type=float, default=0.5, help="drag force on the colloid")
@@ -78,7 +80,7 @@ def colloid_box():
     s = marble.System(box_l=[L] * 3)
     s.time_step = args.dt
     s.cell_system.skin = 0.4
-    kw = dict(boundary=args.boundary)
+    kw = dict(boundary=args.boundary, solvent_count=args.solvent_count)
     if args.boundary == "stick" and args.stick_gamma is not None:
         kw["trans_gamma"] = args.stick_gamma
     if args.radius_calibration is not None:
@@ -138,7 +140,7 @@ elif args.part == "drag":
     out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force, trans_gamma=args.trans_gamma,
                boundary=args.boundary, stick_gamma=info.get("trans_gamma"),
                n_solvent=info["n_solvent"], core_radius=info["core_radius"],
-               radius_calibration=info["radius_calibration"])
+               radius_calibration=info["radius_calibration"], solvent_count=args.solvent_count)
     print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "
           f"(blocking {res.D_err:.5f}), v = {res.v:.4f}")
 elif args.part == "rot":

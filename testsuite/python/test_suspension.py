@@ -272,6 +272,30 @@ class Setup(unittest.TestCase):
             s.integrator.set_vv()
             s.integrator.run(1)
 
+    def test_solvent_count(self):
+        """solvent_count="exact": round(density x free volume) beads outside the cores;
+        "poisson" (the default) is the seed-004 scene bit for bit; bad input."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=4, h_cut=0.4)
+        s0, s1, s2 = self.system(), self.system(), self.system()
+        i0 = sus.setup_suspension(s0, **kw)
+        i1 = sus.setup_suspension(s1, solvent_count="poisson", **kw)
+        np.testing.assert_array_equal(s0.part.all().pos, s1.part.all().pos)
+        np.testing.assert_array_equal(s0.part.all().v, s1.part.all().v)
+        i2 = sus.setup_suspension(s2, solvent_count="exact", **kw)
+        self.assertEqual((i0["solvent_count"], i2["solvent_count"]), ("poisson", "exact"))
+        free = self.L ** 3 - i2["n_colloids"] * 4 / 3 * math.pi
+        self.assertEqual(i2["n_solvent"], round(3 * free))
+        np.testing.assert_array_equal(s2.part.by_ids(i2["colloid_ids"]).pos, s0.part.by_ids(i0["colloid_ids"]).pos)
+        sp = np.asarray(s2.part.by_ids(i2["solvent_ids"]).pos)
+        for c in np.asarray(s2.part.by_ids(i2["colloid_ids"]).pos):
+            self.assertTrue(np.all(np.linalg.norm(min_image(sp - c, self.L), axis=1) >= 1.0))
+        self.assertTrue(np.all((sp >= 0) & (sp < self.L)))
+        s = self.system()
+        with self.assertRaisesRegex(ValueError, "solvent_count"):
+            sus.setup_suspension(s, solvent_count="fixed", **kw)
+        self.assertEqual(len(s.part.all()), 0)
+        self.assertFalse(s.thermostat.dpd.active)
+
     def test_positions(self):
         s = self.system()
         info = sus.setup_suspension(s, phi=0.01, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=1,
