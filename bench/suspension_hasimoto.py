@@ -54,7 +54,7 @@ parser.add_argument("--stick-gamma", type=float, default=None,
 parser.add_argument("--radius-calibration", default=None,
                     help="setup_suspension's radius_calibration: 'none' (the core radius is R = 1: how the "
                          "ratio STICK_RADIUS_RATIO was measured), 'stick' (stick's default: R = 1 is the "
-                         "hydrodynamic radius, the core R/1.02) or a number")
+                         "hydrodynamic radius, the core R/1.013) or a number")
 parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
                     help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--time", type=float, default=1000.0, help="production time")

@@ -33,7 +33,7 @@ on one idle core.
 
 ``--boundary stick`` makes the colloids rotating no-slip spheres (setup_suspension's
 surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R = 1
-(core radius R/1.02, section 7d; ``--radius-calibration none`` builds the core R = 1
+(core radius R/1.013, section 7d; ``--radius-calibration none`` builds the core R = 1
 as before); phi is then the hydrodynamic volume fraction and the cores' is printed
 too. The solvent has exactly rho x free volume beads (``--solvent-count poisson``: a
 Poisson number, as the runs of sections 7-7c; section 7d: the density scatter of a
@@ -130,7 +130,7 @@ def main():
                              "(default setup_suspension's)")
     parser.add_argument("--radius-calibration", default=None,
                         help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
-                             "R/1.02, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
+                             "R/1.013, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
     parser.add_argument("--solvent-count", choices=["exact", "poisson"], default="exact",
                         help="solvent beads: exactly rho x free volume (default), or a Poisson number as "
                              "seed 004 (and doc/suspensions.md sections 7-7c): its density scatter between "

@@ -32,8 +32,8 @@ PHI_RCP = 0.64
 #: rho = 3, kT = 0.1, gamma = 4.5, a_ss = 25 kT, r_c = 1; core radius ~1), measured by
 #: the drag of one colloid in a periodic box against Hasimoto's stick D(L)
 #: (doc/suspensions.md section 7d; error STICK_RADIUS_RATIO_ERR).
-STICK_RADIUS_RATIO = 1.02
-STICK_RADIUS_RATIO_ERR = 0.014
+STICK_RADIUS_RATIO = 1.013
+STICK_RADIUS_RATIO_ERR = 0.010
 
 
 def equal_volume_cutoff(R, r_cut=1.0):
@@ -158,7 +158,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     - ``radius_calibration`` (which radius ``radius`` is): ``"none"`` (the
       default for "slip", seed 004): the core radius a = radius; ``"stick"`` (the
       default for "stick"): ``radius`` is the hydrodynamic (no-slip) radius and the
-      core radius is a = radius / STICK_RADIUS_RATIO (1.02 +/- 0.014, measured
+      core radius is a = radius / STICK_RADIUS_RATIO (1.013 +/- 0.010, measured
       by the drag of one stick colloid, doc/suspensions.md section 7d); or a
       number c > 0 (your own measured ratio): a = radius / c. Everything of the
       colloid is then built on the core a: the offsets of the colloid-solvent
