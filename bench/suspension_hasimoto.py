@@ -29,7 +29,7 @@ Stick colloids: setup_suspension's default takes R = 1 as the hydrodynamic radiu
 (how the ratio was measured, doc/suspensions.md section 7d):
 
     ./pymarble bench/suspension_hasimoto.py --part drag --boundary stick --radius-calibration none --time 6000 --seed 2
-    ./pymarble bench/suspension_hasimoto.py --part ratio --results bench/results/suspension_stick.jsonl --eta 0.3106 0.0049
+    ./pymarble bench/suspension_hasimoto.py --part ratio --results bench/results/suspension_stick.jsonl --eta 0.3290 0.0030
 
 The runs of doc/suspensions.md section 7b are in bench/results/suspension_hasimoto.jsonl.
 """
@@ -190,8 +190,8 @@ elif args.part == "ratio":
             and r.get("force") == args.force]
     groups = {}
     for r in runs:
-        groups.setdefault(round(r.get("core_radius", R), 6), []).append(r)
-    for a, rs in sorted(groups.items()):
+        groups.setdefault((round(r.get("core_radius", R), 6), r.get("solvent_count", "poisson")), []).append(r)
+    for (a, count), rs in sorted(groups.items()):
         D = np.array([r["D"] for r in rs])
         e = np.array([r["D_err"] for r in rs])
         w = 1 / e ** 2
@@ -203,11 +203,10 @@ elif args.part == "ratio":
         Rh, Rh_e = theory.hydrodynamic_radius_from_D(Dm, eta, L, D_err=De, kT=KT)
         Rh_eta = abs(theory.hydrodynamic_radius_from_D(Dm, eta * (1 + eta_err / eta), L, kT=KT)[0] - Rh)
         err = math.hypot(Rh_e, Rh_eta)
-        stick = Dm / theory.hasimoto_D(eta, a * sus.STICK_RADIUS_RATIO if a != R else R, L, kT=KT)
-        print(f"core a = {a:.4f}: {len(D)} runs, {sum(r['time'] for r in rs):.0f} time units: "
+        print(f"core a = {a:.4f}, {count} solvent count: {len(D)} runs, {sum(r['time'] for r in rs):.0f} time units: "
               f"D = {Dm:.5f} +/- {De:.5f} (chi^2 {chi2:.1f} for {dof} dof); R_h = {Rh:.4f} +/- {err:.4f} "
               f"(D {Rh_e:.4f}, eta {Rh_eta:.4f}); R_h / a = {Rh / a:.4f} +/- {err / a:.4f}")
-        out.setdefault("groups", []).append(dict(core_radius=a, n=len(D), D=Dm, D_err=De, chi2=chi2, R_h=Rh,
+        out.setdefault("groups", []).append(dict(core_radius=a, solvent_count=count, n=len(D), D=Dm, D_err=De, chi2=chi2, R_h=Rh,
                                                   R_h_err=err, ratio=Rh / a, ratio_err=err / a))
 else:
     eta, eta_err = args.eta
