@@ -171,7 +171,11 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       hydrodynamic volume fraction; ``positions`` may come as close as 2a. The
       ratio was measured at the seed's settings and a ~ 1 only (another
       trans_gamma, stick_shell or solvent needs its own: bench/suspension_hasimoto.py).
-      "none" with "stick" reproduces the uncalibrated colloid bit for bit.
+      "none" with "stick" reproduces the uncalibrated colloid bit for bit. The
+      correction is small (one colloid's drag radius is its core radius within
+      ~1 %); the suspension's viscosity excess over Krieger-Dougherty at
+      phi >= 0.2 is not a radius effect (section 7d). Compare viscosities with an
+      eta_0 measured at the same solvent density (``solvent_count="exact"``).
     - The DPD thermostat at ``kT`` with ``seed``.
 
     The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
