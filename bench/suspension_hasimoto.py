@@ -24,6 +24,13 @@ its volume fraction is 0.05; Shardlow, dt = 0.01.
     ./pymarble bench/suspension_hasimoto.py --part rot --boundary stick --time 2000 --seed 2
     ./pymarble bench/suspension_hasimoto.py --part compare --eta 0.3227 0.0069 --D 0.0156 0.0002
 
+Stick colloids: setup_suspension's default takes R = 1 as the hydrodynamic radius
+(core 1/STICK_RADIUS_RATIO); ``--radius-calibration none`` builds the core R = 1
+(how the ratio was measured, doc/suspensions.md section 7d):
+
+    ./pymarble bench/suspension_hasimoto.py --part drag --boundary stick --radius-calibration none --time 6000 --seed 2
+    ./pymarble bench/suspension_hasimoto.py --part ratio --results bench/results/suspension_stick.jsonl --eta 0.3290 0.0030
+
 The runs of doc/suspensions.md section 7b are in bench/results/suspension_hasimoto.jsonl.
 """
 import argparse
@@ -39,11 +46,17 @@ import marble.suspensions as sus
 from marble import theory
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-parser.add_argument("--part", choices=["eta", "drag", "rot", "compare"], required=True)
+parser.add_argument("--part", choices=["eta", "drag", "rot", "compare", "ratio"], required=True)
 parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
                     help="setup_suspension's boundary (stick: rotating colloids with the surface_friction kernel)")
 parser.add_argument("--stick-gamma", type=float, default=None,
                     help="stick: the surface_friction's gamma (default setup_suspension's 45)")
+parser.add_argument("--radius-calibration", default=None,
+                    help="setup_suspension's radius_calibration: 'none' (the core radius is R = 1: how the "
+                         "ratio STICK_RADIUS_RATIO was measured), 'stick' (stick's default: R = 1 is the "
+                         "hydrodynamic radius, the core R/1.013) or a number")
+parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
+                    help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--time", type=float, default=1000.0, help="production time")
 parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--force", type=float, default=0.5, help="drag force on the colloid")
@@ -55,6 +68,7 @@ parser.add_argument("--trans-gamma", type=float, default=0.0,
 parser.add_argument("--eta", type=float, nargs=2, help="compare: eta and its error")
 parser.add_argument("--D", type=float, nargs=2, help="compare: D and its error")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
+parser.add_argument("--results", help="ratio: the JSON lines of drag runs to combine")
 args = parser.parse_args()
 
 marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
@@ -66,9 +80,12 @@ def colloid_box():
     s = marble.System(box_l=[L] * 3)
     s.time_step = args.dt
     s.cell_system.skin = 0.4
-    kw = dict(boundary=args.boundary)
+    kw = dict(boundary=args.boundary, solvent_count=args.solvent_count)
     if args.boundary == "stick" and args.stick_gamma is not None:
         kw["trans_gamma"] = args.stick_gamma
+    if args.radius_calibration is not None:
+        rc = args.radius_calibration
+        kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
     info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
                                 positions=[[L / 2] * 3], **kw)
     if args.trans_gamma > 0:
@@ -122,7 +139,8 @@ elif args.part == "drag":
     err = max(res.D_err, KT * math.sqrt(2 * max(res.D, 0) / args.time) / args.force)
     out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force, trans_gamma=args.trans_gamma,
                boundary=args.boundary, stick_gamma=info.get("trans_gamma"),
-               n_solvent=info["n_solvent"])
+               n_solvent=info["n_solvent"], core_radius=info["core_radius"],
+               radius_calibration=info["radius_calibration"], solvent_count=args.solvent_count)
     print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "
           f"(blocking {res.D_err:.5f}), v = {res.v:.4f}")
 elif args.part == "rot":
@@ -160,6 +178,36 @@ elif args.part == "rot":
                boundary=args.boundary, rinertia=I_rot, tmax=tmax)
     print(f"<I w^2>/(3 kT) = {out['kT_rot']:.4f} +/- {out['kT_rot_err']:.4f}, <M v^2>/(3 kT) = "
           f"{out['kT_trans']:.4f} +/- {out['kT_trans_err']:.4f}, D_r = {out['D_r']:.5f} +/- {out['D_r_err']:.5f}")
+elif args.part == "ratio":
+    # R_h / core radius of the stick colloid (setup_suspension's STICK_RADIUS_RATIO):
+    # the drag runs of --results with --boundary stick (trans_gamma 45, no TRANS_DPD),
+    # grouped by core radius; D weighted by 1/err^2 (error scaled by sqrt(chi^2/dof)
+    # when above 1), R_h from Hasimoto's stick D(L) at eta (its error added in quadrature)
+    eta, eta_err = args.eta
+    runs = [json.loads(line) for line in open(args.results) if line.strip()]
+    runs = [r for r in runs if r.get("part") == "drag" and r.get("boundary") == "stick"
+            and r.get("stick_gamma") in (None, 45.0) and not r.get("trans_gamma") and r.get("stick_shell") is None
+            and r.get("force") == args.force]
+    groups = {}
+    for r in runs:
+        groups.setdefault((round(r.get("core_radius", R), 6), r.get("solvent_count", "poisson")), []).append(r)
+    for (a, count), rs in sorted(groups.items()):
+        D = np.array([r["D"] for r in rs])
+        e = np.array([r["D_err"] for r in rs])
+        w = 1 / e ** 2
+        Dm, De = np.sum(w * D) / np.sum(w), 1 / math.sqrt(np.sum(w))
+        chi2 = float(np.sum(w * (D - Dm) ** 2))
+        dof = len(D) - 1
+        if dof > 0 and chi2 > dof:
+            De *= math.sqrt(chi2 / dof)
+        Rh, Rh_e = theory.hydrodynamic_radius_from_D(Dm, eta, L, D_err=De, kT=KT)
+        Rh_eta = abs(theory.hydrodynamic_radius_from_D(Dm, eta * (1 + eta_err / eta), L, kT=KT)[0] - Rh)
+        err = math.hypot(Rh_e, Rh_eta)
+        print(f"core a = {a:.4f}, {count} solvent count: {len(D)} runs, {sum(r['time'] for r in rs):.0f} time units: "
+              f"D = {Dm:.5f} +/- {De:.5f} (chi^2 {chi2:.1f} for {dof} dof); R_h = {Rh:.4f} +/- {err:.4f} "
+              f"(D {Rh_e:.4f}, eta {Rh_eta:.4f}); R_h / a = {Rh / a:.4f} +/- {err / a:.4f}")
+        out.setdefault("groups", []).append(dict(core_radius=a, solvent_count=count, n=len(D), D=Dm, D_err=De, chi2=chi2, R_h=Rh,
+                                                  R_h_err=err, ratio=Rh / a, ratio_err=err / a))
 else:
     eta, eta_err = args.eta
     D, D_err = args.D

@@ -32,6 +32,11 @@ parser.add_argument("--trans-gamma", type=float, default=None, help="stick: tang
 parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
                     help="stick: friction of a bead in several colloids' shells (default full)")
 parser.add_argument("--stick-shell", type=float, default=None, help="stick: the friction shell's thickness")
+parser.add_argument("--radius-calibration", default=None,
+                    help="stick: setup_suspension's radius_calibration ('none': the core radius is R = 1, "
+                         "as in section 7c; default 'stick': R = 1 is the hydrodynamic radius)")
+parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
+                    help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 10])
 parser.add_argument("--time", type=float, default=2000.0, help="production time")
 parser.add_argument("--equil", type=float, default=20.0)
@@ -47,13 +52,16 @@ marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL
 box = np.array(args.box, dtype=float)
 
 t0 = time.process_time()
-kw = {}
+kw = dict(solvent_count=args.solvent_count)
 if args.phi > 0:
-    kw = dict(boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
+    kw = dict(kw, boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
         kw["trans_gamma"] = args.trans_gamma
     if args.boundary == "stick":
         kw.update(shared=args.shared, stick_shell=args.stick_shell)
+        if args.radius_calibration is not None:
+            rc = args.radius_calibration
+            kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
 # the sample's scene and measurement (samples/suspension_viscosity.py)
 s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
 res = sample.measure(s, args.g, args.time)
@@ -62,10 +70,13 @@ out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            shared=info.get("shared"), stick_shell=info.get("stick_shell"),
            box=list(box), time=args.time, dt=args.dt, g=args.g, seed=args.seed,
            eta=res.eta, eta_err=res.eta_err, kT=res.kT, v_max=res.v_max,
-           colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
+           colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication,
+           phi_core=info.get("phi_core", 0.0), phi_hydrodynamic=info.get("phi_hydrodynamic"),
+           core_radius=info.get("core_radius"), radius_calibration=info.get("radius_calibration"),
+           n_solvent=len(s.part.all()) - info["n_colloids"], solvent_count=args.solvent_count)
 out["cpu_s"] = time.process_time() - t0
 print(json.dumps(out))
-print(f"phi = {out['phi']:.4f} ({out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "
+print(f"phi = {out['phi']:.4f} (cores {out['phi_core']:.4f}; {out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "
       f"Batchelor x eta0 would be {theory.batchelor_viscosity(out['phi']):.3f} eta0")
 if args.json:
     with open(args.json, "a") as f:

@@ -32,8 +32,13 @@ against Batchelor's 1.32); the error falls as 1/sqrt(time). The default run
 on one idle core.
 
 ``--boundary stick`` makes the colloids rotating no-slip spheres (setup_suspension's
-surface_friction, doc/suspensions.md section 7c); the default "slip" is seed 004's
-colloid, whose central colloid-solvent friction makes it a slipping sphere (section 7b).
+surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R = 1
+(core radius R/1.013, section 7d; ``--radius-calibration none`` builds the core R = 1
+as before); phi is then the hydrodynamic volume fraction and the cores' is printed
+too. The solvent has exactly rho x free volume beads (``--solvent-count poisson``: a
+Poisson number, as the runs of sections 7-7c; section 7d: the density scatter of a
+Poisson count shifts eta by several %, and eta_0 must be measured at the same density). The default "slip" is seed 004's colloid, whose central colloid-solvent
+friction makes it a slipping sphere (section 7b).
 
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
@@ -73,13 +78,16 @@ def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw)
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
                                     seed=seed, h_cut=1.0, **contact, **suspension_kw)
     else:  # the solvent alone: setup_suspension's solvent without the colloid
-        info = sus.setup_suspension(s, phi=1e-9, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=seed, positions=[0.5 * box], **contact)
+        count = suspension_kw.get("solvent_count", "poisson")
+        # "exact": a point-sized placeholder colloid, so that no hole is cut from the solvent
+        info = sus.setup_suspension(s, phi=1e-9, radius=R if count == "poisson" else 1e-3, kT=KT,
+                                    gamma=GAMMA, eta=ETA0, seed=seed, positions=[0.5 * box],
+                                    solvent_count=count, **contact)
         s.part.by_ids(info["colloid_ids"]).remove()
         s.non_bonded_inter.reset()
         s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, r_cut=1.0)
-        info["n_colloids"], info["phi"] = 0, 0.0
+        info["n_colloids"], info["phi"], info["phi_core"] = 0, 0.0, 0.0
     s.integrator.set_shardlow()
     p = s.part.all()
     v = np.asarray(p.v)
@@ -120,6 +128,13 @@ def main():
     parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
                         help="stick: the friction of a bead inside several colloids' shells "
                              "(default setup_suspension's)")
+    parser.add_argument("--radius-calibration", default=None,
+                        help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
+                             "R/1.013, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
+    parser.add_argument("--solvent-count", choices=["exact", "poisson"], default="exact",
+                        help="solvent beads: exactly rho x free volume (default), or a Poisson number as "
+                             "seed 004 (and doc/suspensions.md sections 7-7c): its density scatter between "
+                             "scenes shifts eta by several %% (section 7d)")
     parser.add_argument("--png", default="suspension_viscosity.png")
     args = parser.parse_args()
 
@@ -133,29 +148,33 @@ def main():
             stick["trans_gamma"] = args.trans_gamma
         if args.shared is not None:
             stick["shared"] = args.shared
+        if args.radius_calibration is not None:
+            rc = args.radius_calibration
+            stick["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
 
     def run(phi):
         s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,
-                        **(stick if phi > 0 else {}))
+                        solvent_count=args.solvent_count, **(stick if phi > 0 else {}))
         res = measure(s, args.g, args.time, equilibration=0.5 * args.equil if short else None)
-        print(f"phi = {info['phi']:.4f} ({info['n_colloids']} colloids, {len(s.part.all())} "
+        print(f"phi = {info['phi']:.4f} (cores {info['phi_core']:.4f}; {info['n_colloids']} colloids, "
+              f"{len(s.part.all())} "
               f"particles): eta = {res.eta:.4f} +/- {res.eta_err:.4f}, kT = {res.kT:.4f}, "
               f"v_max = {res.v_max:.3f}", flush=True)
-        return info["phi"], res
+        return info["phi"], info["phi_core"], res
 
-    phi0, res0 = run(0.0)
+    phi0, _, res0 = run(0.0)
     rows = []
     for phi in args.phi:
-        ph, res = run(phi)
+        ph, ph_core, res = run(phi)
         er = res.eta / res0.eta
         er_err = er * math.hypot(res.eta_err / res.eta, res0.eta_err / res0.eta)
-        rows.append((ph, er, er_err))
+        rows.append((ph, er, er_err, ph_core))
     print(f"box {box}, dt = {args.dt}, g = {args.g}, {args.time} time units per scene")
     print(f"eta_0 = {res0.eta:.4f} +/- {res0.eta_err:.4f}")
-    print(" phi     eta_r            Batchelor  Krieger-Dougherty")
-    for ph, er, e in rows:
-        print(f" {ph:.3f}   {er:.3f} +/- {e:.3f}   {theory.batchelor_viscosity(ph):.3f}      "
-              f"{theory.krieger_dougherty_viscosity(ph):.3f}")
+    print(" phi (given radius)  phi (cores)  eta_r            Batchelor  Krieger-Dougherty")
+    for ph, er, e, ph_core in rows:
+        print(f" {ph:.3f}               {ph_core:.3f}        {er:.3f} +/- {e:.3f}   "
+              f"{theory.batchelor_viscosity(ph):.3f}      {theory.krieger_dougherty_viscosity(ph):.3f}")
 
     import matplotlib
 

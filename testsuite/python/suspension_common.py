@@ -15,6 +15,10 @@ R, KT, PHI, DT, F = 1.0, 0.1, 0.05, 0.01, 0.5
 # the solvent's viscosity at these settings and dt (reverse Poiseuille,
 # bench/suspension_hasimoto.py --part eta, 1500 time units)
 ETA, ETA_ERR = 0.3227, 0.0069
+# the solvent at exactly density 3 (solvent_count="exact", box 7 x 7 x 10, g = 0.02,
+# 3000 time units per seed; doc/suspensions.md section 7d): the eta_0 of the stick
+# radius calibration. ETA above was measured at a Poisson density 2.97 (section 7b).
+ETA0, ETA0_ERR = 0.3290, 0.0030
 L = (4.0 * math.pi * R ** 3 / (3.0 * PHI)) ** (1.0 / 3.0)
 
 

@@ -133,7 +133,7 @@ class Setup(unittest.TestCase):
             with self.assertRaises(marble.FeaturesError):
                 sus.setup_suspension(s2, boundary="stick", **kw)
             return
-        i2 = sus.setup_suspension(s2, boundary="stick", **kw)
+        i2 = sus.setup_suspension(s2, boundary="stick", radius_calibration="none", **kw)
         for prop in ("pos", "v", "type", "mass"):
             np.testing.assert_array_equal(getattr(s1.part.all(), prop), getattr(s2.part.all(), prop))
         c1, c2 = s1.part.by_ids(i1["colloid_ids"]), s2.part.by_ids(i2["colloid_ids"])
@@ -149,6 +149,152 @@ class Setup(unittest.TestCase):
         s2.integrator.set_shardlow()
         s2.integrator.run(200)
         self.assertTrue(np.all(np.isfinite(s2.part.all().pos)))
+
+    def test_stick_radius_calibration(self):
+        """boundary="stick" takes ``radius`` as the hydrodynamic radius by default: the whole
+        colloid is built on the core a = radius / STICK_RADIUS_RATIO (offsets, equal-volume
+        shell, solvent removal, mass, inertia, colloid-colloid kernels), phi counts spheres
+        of the given radius; "none" is the uncalibrated colloid bit for bit; a number is
+        taken as the ratio."""
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            self.skipTest("needs TRANS_DPD and ROTATION")
+        c = sus.STICK_RADIUS_RATIO
+        self.assertGreater(c, 1.0)
+        self.assertLess(c, 1.2)
+        R = 1.2
+        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4)
+        s0, s1, s2 = self.system(), self.system(), self.system()
+        i0 = sus.setup_suspension(s0, **kw)  # slip: no calibration
+        i1 = sus.setup_suspension(s1, boundary="stick", **kw)
+        i2 = sus.setup_suspension(s2, boundary="stick", radius_calibration=1.1, **kw)
+        V = self.L ** 3
+        n_c = round(0.1 * V / (4 / 3 * math.pi * R ** 3))
+        self.assertEqual((i0["radius_calibration"], i0["radius_ratio"], i0["core_radius"]), ("none", 1.0, R))
+        self.assertIsNone(i0["hydrodynamic_radius"])
+        for s, info, ratio in ((s1, i1, c), (s2, i2, 1.1)):
+            a = R / ratio
+            with self.subTest(ratio=ratio):
+                self.assertEqual(info["n_colloids"], n_c)
+                self.assertAlmostEqual(info["core_radius"], a, places=14)
+                self.assertEqual((info["radius"], info["radius_ratio"]), (R, ratio))
+                self.assertAlmostEqual(info["phi"], n_c * 4 / 3 * math.pi * R ** 3 / V, places=14)
+                self.assertAlmostEqual(info["phi_core"], info["phi"] / ratio ** 3, places=14)
+                self.assertAlmostEqual(info["hydrodynamic_radius"], R, places=14)
+                self.assertAlmostEqual(info["phi_hydrodynamic"], info["phi"], places=14)
+                self.assertAlmostEqual(info["diffusion_time"], sus.diffusion_time(R, 0.3, 0.1), places=12)
+                col = s.part.by_ids(info["colloid_ids"])
+                m = 3 * 4 / 3 * math.pi * a ** 3
+                np.testing.assert_allclose(col.mass, m, rtol=1e-14)
+                np.testing.assert_allclose(col.rinertia, 0.4 * m * a * a, rtol=1e-14)
+                # the same placement as slip (hydrodynamic spheres kept apart), cores emptied
+                np.testing.assert_array_equal(col.pos, s0.part.by_ids(i0["colloid_ids"]).pos)
+                cp = np.asarray(col.pos)
+                for i in range(n_c):
+                    d = np.linalg.norm(min_image(cp[i + 1:] - cp[i], self.L), axis=1)
+                    self.assertTrue(np.all(d >= 2 * R), "hydrodynamic spheres overlap at placement")
+                sp = np.asarray(s.part.by_ids(info["solvent_ids"]).pos)
+                dmin = np.min([np.linalg.norm(min_image(sp - x, self.L), axis=1) for x in cp], axis=0)
+                self.assertGreaterEqual(dmin.min(), a)
+                self.assertGreater(np.count_nonzero(dmin < R), 0, "no solvent between core and R")
+                self.assertEqual(info["n_solvent"], i0["n_solvent"] + np.count_nonzero(dmin < R))
+                rp = sus.surface_cutoff(a)
+                self.assertAlmostEqual(info["cutoff_surface"], rp, places=14)
+                ia = s.non_bonded_inter
+                hat = ia[1, 0].hat.get_params()
+                self.assertAlmostEqual(hat["offset"], a, places=14)
+                self.assertAlmostEqual(hat["cutoff"], rp, places=12)
+                self.assertAlmostEqual(hat["F_max"], sus.colloid_solvent_repulsion(a, a_ss=2.5), places=10)
+                dpd = ia[1, 0].dpd.get_params()
+                self.assertAlmostEqual(dpd["offset"], a, places=14)
+                self.assertAlmostEqual(dpd["r_cut"], rp, places=12)
+                sf = ia[1, 0].surface_friction.get_params()
+                self.assertAlmostEqual(sf["a1"], a, places=14)
+                self.assertAlmostEqual(sf["r_cut"], rp, places=12)
+                self.assertAlmostEqual(info["stick_shell"], rp, places=12)
+                self.assertAlmostEqual(ia[1, 1].contact.get_params()["offset"], 2 * a, places=14)
+                self.assertAlmostEqual(ia[1, 1].dpd.get_params()["offset"], 2 * a, places=14)
+                lub = ia[1, 1].lubrication.get_params()
+                self.assertAlmostEqual(lub["a1"], a, places=14)
+                self.assertAlmostEqual(lub["a2"], a, places=14)
+        # "none": the core is the given radius, as before the calibration
+        s3 = self.system()
+        i3 = sus.setup_suspension(s3, boundary="stick", radius_calibration="none", **kw)
+        self.assertEqual((i3["core_radius"], i3["phi_core"], i3["radius_ratio"]), (R, i3["phi"], 1.0))
+        self.assertAlmostEqual(i3["hydrodynamic_radius"], c * R, places=14)
+        for prop in ("pos", "v", "type", "mass"):
+            np.testing.assert_array_equal(getattr(s0.part.all(), prop), getattr(s3.part.all(), prop))
+        self.assertEqual(s3.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], R)
+        # positions may come as close as the cores
+        s4 = self.system()
+        d = 2 * R / c + 0.01
+        i4 = sus.setup_suspension(s4, boundary="stick", positions=[[2, 2, 2], [2 + d, 2, 2]], **kw)
+        self.assertEqual(i4["n_colloids"], 2)
+        # bad input: a clear ValueError, nothing changed
+        for extra, key in ((dict(radius_calibration="stick"), "radius_calibration"),
+                           (dict(boundary="stick", radius_calibration="hydro"), "radius_calibration"),
+                           (dict(boundary="stick", radius_calibration=-1.0), "radius_calibration"),
+                           (dict(boundary="stick", radius_calibration=0.0), "radius_calibration"),
+                           (dict(boundary="stick", radius_calibration="none",
+                                 positions=[[2, 2, 2], [2 + 2 * R - 0.01, 2, 2]]), "positions")):
+            with self.subTest(extra=extra):
+                s = self.system()
+                with self.assertRaisesRegex(ValueError, key):
+                    sus.setup_suspension(s, **dict(kw, **extra))
+                self.assertEqual(len(s.part.all()), 0)
+                self.assertFalse(s.thermostat.dpd.active)
+
+    def test_stick_friction_in_stability_check(self):
+        """The explicit stability check (integrators/stability.cpp) counts the stick
+        surface_friction with velocity Verlet: a bead's gamma/m (45 at dt = 0.05: nu = 2.25)
+        and the colloid's rotational friction from its shell (tiny inertia); the
+        same scenes pass as slip (no surface friction) and under Shardlow (exact pair update)."""
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            self.skipTest("needs TRANS_DPD and ROTATION")
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=3, h_cut=0.4,
+                  lubrication=False, f_contact=0.5, delta=0.1)
+        for dt, extra, where in ((0.05, dict(boundary="stick"), "surface_friction of types 1-0"),
+                                 (0.005, dict(boundary="stick", trans_gamma=10.0, rinertia=0.01),
+                                  "rotational stick friction")):
+            for integ, fails in (("set_vv", True), ("set_shardlow", False)):
+                with self.subTest(dt=dt, integrator=integ):
+                    s = self.system()
+                    s.time_step = dt
+                    sus.setup_suspension(s, **kw, **extra)
+                    getattr(s.integrator, integ)()
+                    if fails:
+                        with self.assertRaisesRegex(RuntimeError, where):
+                            s.integrator.run(1)
+                    else:
+                        s.integrator.run(1)
+            s = self.system()  # the same scene with slip colloids: no surface friction, runs
+            s.time_step = dt
+            sus.setup_suspension(s, **kw)
+            s.integrator.set_vv()
+            s.integrator.run(1)
+
+    def test_solvent_count(self):
+        """solvent_count="exact": round(density x free volume) beads outside the cores;
+        "poisson" (the default) is the seed-004 scene bit for bit; bad input."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=4, h_cut=0.4)
+        s0, s1, s2 = self.system(), self.system(), self.system()
+        i0 = sus.setup_suspension(s0, **kw)
+        i1 = sus.setup_suspension(s1, solvent_count="poisson", **kw)
+        np.testing.assert_array_equal(s0.part.all().pos, s1.part.all().pos)
+        np.testing.assert_array_equal(s0.part.all().v, s1.part.all().v)
+        i2 = sus.setup_suspension(s2, solvent_count="exact", **kw)
+        self.assertEqual((i0["solvent_count"], i2["solvent_count"]), ("poisson", "exact"))
+        free = self.L ** 3 - i2["n_colloids"] * 4 / 3 * math.pi
+        self.assertEqual(i2["n_solvent"], round(3 * free))
+        np.testing.assert_array_equal(s2.part.by_ids(i2["colloid_ids"]).pos, s0.part.by_ids(i0["colloid_ids"]).pos)
+        sp = np.asarray(s2.part.by_ids(i2["solvent_ids"]).pos)
+        for c in np.asarray(s2.part.by_ids(i2["colloid_ids"]).pos):
+            self.assertTrue(np.all(np.linalg.norm(min_image(sp - c, self.L), axis=1) >= 1.0))
+        self.assertTrue(np.all((sp >= 0) & (sp < self.L)))
+        s = self.system()
+        with self.assertRaisesRegex(ValueError, "solvent_count"):
+            sus.setup_suspension(s, solvent_count="fixed", **kw)
+        self.assertEqual(len(s.part.all()), 0)
+        self.assertFalse(s.thermostat.dpd.active)
 
     def test_positions(self):
         s = self.system()

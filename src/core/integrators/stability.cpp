@@ -171,6 +171,61 @@ FrictionRates friction_rates(System &sys,
     }
   }
 #endif
+#ifdef TRANS_DPD
+  // the stick friction (nonbonded/surface_friction.hpp) with explicit
+  // integration (under Shardlow it is part of the exact pair update): gamma w^2
+  // on the tangential contact velocity, w <= 1. A point partner (radius 0) of
+  // a surface feels at most gamma / m, one-body-like; the surface's particle
+  // sums its shell: translation (2/3) gamma n int w^2 4 pi r^2 dr / M
+  // (tangential: two of three directions), rotation with the lever r,
+  // (2/3) gamma n int w^2 4 pi r^4 dr / I (r = a + h on the gap h).
+  if (include_pair_dpd) {
+    for (int a = 0; a < nt; ++a) {
+      for (int b = 0; b < nt; ++b) {
+        auto const &p = ia.get(a, b).get<SurfaceFriction>();
+        if (!p.active || st.count[a] == 0. || st.count[b] == 0.)
+          continue;
+        // the partner b of the surface a: one-body bound gamma / m_b (each
+        // ordered pair once: (b, a) adds a's)
+        one[b] += p.gamma / st.m_min[b];
+        bead_what[b] += (bead_what[b].empty() ? "" : " + ") +
+                        std::string("surface_friction of types ") +
+                        std::to_string(a) + "-" + std::to_string(b) +
+                        " (gamma " + fmt(p.gamma) + ")";
+        if (!(p.a1 > 0.) || p.a2 > 0.)
+          continue; // the shell sum for a sphere with point partners only
+        double const n = st.count[b] / V;
+        auto const w = [&](double h) {
+          return h < p.r_cut ? 1. - h / p.r_cut : 0.;
+        };
+        double const shell2 =
+            p.gamma * n * weight_integral(w, p.r_cut, p.a1);
+        int const k = 200;
+        double shell4 = 0.;
+        for (int q = 0; q < k; ++q) {
+          double const h = (q + 0.5) * p.r_cut / k, x = w(h), r = p.a1 + h;
+          shell4 += x * x * 4. * M_PI * r * r * r * r;
+        }
+        shell4 *= p.gamma * n * p.r_cut / k;
+        double const trans = (2. / 3.) * shell2 / st.m_min[a];
+        double const rot = std::isfinite(st.rinertia_min[a])
+                               ? (2. / 3.) * shell4 / st.rinertia_min[a]
+                               : 0.;
+        double const r = std::max(trans, rot);
+        if (r > out.colloid) {
+          out.colloid = r;
+          out.colloid_where =
+              "surface_friction sphere type " + std::to_string(a) +
+              " (particle " + std::to_string(st.lightest[a]) + ", radius " +
+              fmt(p.a1) + ", mass " + fmt(st.m_min[a]) +
+              "): " + (rot > trans ? "rotational" : "translational") +
+              " stick friction (gamma " + fmt(p.gamma) +
+              ") from its shell of type " + std::to_string(b);
+        }
+      }
+    }
+  }
+#endif
   for (auto const &w : sys.constraints().walls()) {
     for (int s = 0; s < nt; ++s) {
       if (w.type >= nt || st.count[s] == 0.)

@@ -15,8 +15,10 @@ struct FrictionRates {
   /// sum_b gamma_ab M_ab (1/m_a + 1/m_b) n_b int_0^rc w(r)^2 4 pi r^2 dr
   double dpd = 0.;
   std::string dpd_where;
-  /// one-body-like friction on a bead: marble coupling gamma / m (w <= 1)
-  /// and tunable-slip wall gamma_L / m
+  /// one-body-like friction on a bead: marble coupling gamma / m (w <= 1),
+  /// tunable-slip wall gamma_L / m and, with explicit pair friction (not
+  /// Shardlow), the stick surface_friction's gamma / m
+  /// (nonbonded/surface_friction.hpp)
   double one_body = 0.;
   /// largest over types of dpd / kNuDpd + one_body / kNuOneBody: times dt,
   /// the fraction of the stability limit used by a bead
@@ -24,7 +26,9 @@ struct FrictionRates {
   std::string bead_where;
   /// a colloid's friction rate from its solvent shell, largest of translation
   /// gamma n_s int_0^rc w(h)^2 4 pi (R + h)^2 dh / M and rotation (2/3) R^2
-  /// (...) / I
+  /// (...) / I; or (explicit pair friction only) a sphere's surface_friction
+  /// with point partners: translation (2/3) gamma n int w^2 4 pi r^2 dr / M,
+  /// rotation (2/3) gamma n int w^2 4 pi r^4 dr / I over its shell
   double colloid = 0.;
   std::string colloid_where;
   /// thermal speed sqrt(kT / m_min) of the lightest thermalised particle

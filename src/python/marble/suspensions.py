@@ -9,7 +9,9 @@ colloid interaction acts on the surface gap h = r - (a_i + a_j):
 - colloid-colloid: contact force, squeeze lubrication (FDT-consistent noise),
   optional Morse attraction, and DPD on the gap (cutoff r_c);
 - boundary="stick" (not seed 004): rotating colloids and the tangential
-  surface_friction kernel on the colloid-solvent pair (no-slip spheres).
+  surface_friction kernel on the colloid-solvent pair (no-slip spheres); by
+  default the given radius is the colloid's HYDRODYNAMIC radius, the core
+  radius being radius / STICK_RADIUS_RATIO (doc/suspensions.md section 7d).
 
     import marble, marble.suspensions as sus
     s = marble.System(box_l=[12.0] * 3)
@@ -24,6 +26,14 @@ from .code_features import assert_features
 
 #: Random close packing of monodisperse spheres: no random placement above it.
 PHI_RCP = 0.64
+
+#: Hydrodynamic radius / core radius of setup_suspension's stick colloid
+#: (boundary="stick", trans_gamma = 45, friction shell r'_c, seed 004's solvent:
+#: rho = 3, kT = 0.1, gamma = 4.5, a_ss = 25 kT, r_c = 1; core radius ~1), measured by
+#: the drag of one colloid in a periodic box against Hasimoto's stick D(L)
+#: (doc/suspensions.md section 7d; error STICK_RADIUS_RATIO_ERR).
+STICK_RADIUS_RATIO = 1.013
+STICK_RADIUS_RATIO_ERR = 0.010
 
 
 def equal_volume_cutoff(R, r_cut=1.0):
@@ -114,13 +124,19 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                      f_contact=None, delta=0.001, lubrication=True, h_cut=None, h_min=0.001,
                      log_term="off", morse=None, colloid_dpd=True,
                      solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
-                     boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None):
+                     boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None,
+                     radius_calibration=None, solvent_count="poisson"):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
       overlap (or at ``positions``), mass ``density (4/3) pi R^3`` (seed 004).
     - Solvent: ``density`` beads per unit volume outside the colloid cores
       (beads drawn uniformly over the box, those inside a core removed).
+      ``solvent_count``: ``"poisson"`` (default, seed 004's scenes bit for bit):
+      a Poisson number of draws with mean ``density V``, so the solvent density of
+      a small box scatters between seeds (+/- 6 % for one colloid in L = 4.4,
+      +/- 2.6 % in 7 x 7 x 10), and with it the viscosity; ``"exact"``:
+      exactly round(density x free volume) beads (doc/suspensions.md section 7d).
     - Interactions (module doc): a_ss = 25 kT/r_c, the colloid-solvent hat
       F_max from ``colloid_solvent_repulsion(R, a_ss, r_c, a_cs_rule)`` unless
       ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
@@ -139,13 +155,38 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``"split"`` (gamma/n with each of n) or ``"off"`` (none).
       ``stick_shell`` (stick only): the shell's thickness on the gap (default
       the colloid-solvent DPD cutoff r'_c).
+    - ``radius_calibration`` (which radius ``radius`` is): ``"none"`` (the
+      default for "slip", seed 004): the core radius a = radius; ``"stick"`` (the
+      default for "stick"): ``radius`` is the hydrodynamic (no-slip) radius and the
+      core radius is a = radius / STICK_RADIUS_RATIO (1.013 +/- 0.010, measured
+      by the drag of one stick colloid, doc/suspensions.md section 7d); or a
+      number c > 0 (your own measured ratio): a = radius / c. Everything of the
+      colloid is then built on the core a: the offsets of the colloid-solvent
+      hat, DPD and surface friction, the equal-volume surface cutoff r'_c(a)
+      (also the friction shell), the solvent removed from r < a, the mass
+      ``density (4/3) pi a^3``, the inertia 2/5 M a^2, and the colloid-colloid
+      contact, lubrication, DPD and Morse on the core gap r - 2a. The number of
+      colloids is N = round(phi V / (4/3 pi radius^3)) and random placement
+      keeps the spheres of radius ``radius`` apart, so ``phi`` is the
+      hydrodynamic volume fraction; ``positions`` may come as close as 2a. The
+      ratio was measured at the seed's settings and a ~ 1 only (another
+      trans_gamma, stick_shell or solvent needs its own: bench/suspension_hasimoto.py).
+      "none" with "stick" reproduces the uncalibrated colloid bit for bit. The
+      correction is small (one colloid's drag radius is its core radius within
+      ~1 %); the suspension's viscosity excess over Krieger-Dougherty at
+      phi >= 0.2 is not a radius effect (section 7d). Compare viscosities with an
+      eta_0 measured at the same solvent density (``solvent_count="exact"``).
     - The DPD thermostat at ``kT`` with ``seed``.
 
     The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
     equilibrate a few time units before measuring (doc/suspensions.md).
 
     Every parameter is checked before anything changes (ValueError naming
-    it). Returns a dict of what was set (counts, cutoffs, parameters, ids).
+    it). Returns a dict of what was set (counts, cutoffs, parameters, ids;
+    ``radius`` the given radius, ``core_radius`` a, ``radius_ratio`` radius/a,
+    ``phi`` the volume fraction of spheres of the given radius and ``phi_core``
+    that of the cores; ``hydrodynamic_radius`` and ``phi_hydrodynamic`` for
+    "stick": a x STICK_RADIUS_RATIO for the calibrated ratio, a x c for your c).
     Colloid-colloid pairs (range 2R + h_cut) go through the main Verlet list
     but the colloids get their own coarse cell grid (``system.cell_system.
     large_range_types``, "auto" by default), so the solvent's cells keep the
@@ -173,7 +214,23 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     phi = _positive("phi", phi)
     if phi > PHI_RCP:
         raise ValueError(f"parameter 'phi' must be <= {PHI_RCP} (random close packing), got {phi}")
-    R = _positive("radius", radius)
+    R_user = _positive("radius", radius)
+    if radius_calibration is None:
+        radius_calibration = "stick" if boundary == "stick" else "none"
+    if radius_calibration == "none":
+        ratio = 1.0
+    elif radius_calibration == "stick":
+        if boundary != "stick":
+            raise ValueError("parameter 'radius_calibration': 'stick' applies to boundary='stick' only "
+                             "(use 'none' or your own ratio)")
+        ratio = STICK_RADIUS_RATIO
+    elif isinstance(radius_calibration, str):
+        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick' or a ratio > 0, "
+                         f"got {radius_calibration!r}")
+    else:
+        ratio = _positive("radius_calibration", radius_calibration)
+    # the core radius: every colloid interaction, the solvent removal and the mass use it
+    R = R_user / ratio if ratio != 1.0 else R_user
     density = _positive("density", density)
     kT = _positive("kT", kT, allow_zero=True)
     gamma = _positive("gamma", gamma, allow_zero=True)
@@ -209,7 +266,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         raise ValueError(f"the box (smallest edge {np.min(L)}) must exceed the colloid pair "
                          f"range 2R + cutoff = {2 * R + max(h_cut, r_cut, delta)}")
     rng = np.random.default_rng(int(seed))
-    v_col = 4.0 / 3.0 * math.pi * R ** 3
+    v_col = 4.0 / 3.0 * math.pi * R ** 3  # the core's volume
+    v_user = 4.0 / 3.0 * math.pi * R_user ** 3  # the volume of a sphere of the given radius
     if positions is not None:
         cpos = np.asarray(positions, float)
         if cpos.ndim != 2 or cpos.shape[1] != 3 or not np.all(np.isfinite(cpos)):
@@ -222,20 +280,33 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                                  f"(distance {d.min():.4g} < 2R = {2 * R})")
         n_col = len(cpos)
     else:
-        n_col = int(round(phi * V / v_col))
+        n_col = int(round(phi * V / v_user))
         if n_col < 1:
-            raise ValueError(f"parameter 'phi': {phi} gives no colloid of radius {R} in volume {V:.4g}")
-        cpos = place_colloids(L, n_col, R, rng, min_gap=delta)
+            raise ValueError(f"parameter 'phi': {phi} gives no colloid of radius {R_user} in volume {V:.4g}")
+        cpos = place_colloids(L, n_col, R_user, rng, min_gap=delta)
     m_col = density * v_col if colloid_mass is None else _positive("colloid_mass", colloid_mass)
     if boundary == "stick":
         rinertia = 0.4 * m_col * R * R if rinertia is None else _positive("rinertia", rinertia)
     # solvent outside the cores
-    n_try = int(rng.poisson(density * V))
-    spos = rng.uniform(0, 1, size=(n_try, 3)) * L
-    keep = np.ones(n_try, bool)
-    for c in cpos:
-        keep &= np.linalg.norm(_min_image(spos - c, L), axis=1) >= R
-    spos = spos[keep]
+    if solvent_count not in ("poisson", "exact"):
+        raise ValueError(f"parameter 'solvent_count' must be 'poisson' or 'exact', got {solvent_count!r}")
+
+    def outside_cores(n_try):
+        x = rng.uniform(0, 1, size=(n_try, 3)) * L
+        keep = np.ones(n_try, bool)
+        for c in cpos:
+            keep &= np.linalg.norm(_min_image(x - c, L), axis=1) >= R
+        return x[keep]
+
+    if solvent_count == "poisson":
+        spos = outside_cores(int(rng.poisson(density * V)))
+    else:
+        v_free = V - n_col * v_col  # the cores do not overlap
+        n_want = int(round(density * v_free))
+        spos = np.empty((0, 3))
+        while len(spos) < n_want:
+            spos = np.vstack([spos, outside_cores(int(1.1 * (n_want - len(spos)) * V / v_free) + 16)])
+        spos = spos[:n_want]
 
     # everything checked: now change the system
     sigma_v = math.sqrt(kT) if kT > 0 else 0.0
@@ -271,10 +342,16 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if morse:
         ia[c, c].morse.set_params(**dict(morse, offset=2 * R))
     system.thermostat.set_dpd(kT=kT, seed=int(seed))
-    return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_col / V, radius=R,
+    hydro = None
+    if boundary == "stick":
+        hydro = R * (STICK_RADIUS_RATIO if radius_calibration == "none" else ratio)
+    return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_user / V, radius=R_user,
+                core_radius=R, radius_ratio=ratio, radius_calibration=radius_calibration,
+                phi_core=n_col * v_col / V, hydrodynamic_radius=hydro, solvent_count=solvent_count,
+                phi_hydrodynamic=None if hydro is None else n_col * 4.0 / 3.0 * math.pi * hydro ** 3 / V,
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
-                diffusion_time=diffusion_time(R, eta, kT) if (eta and kT > 0) else math.inf,
+                diffusion_time=diffusion_time(R_user, eta, kT) if (eta and kT > 0) else math.inf,
                 boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia, shared=shared,
                 stick_shell=(rp if stick_shell is None else stick_shell) if boundary == "stick" else None)
