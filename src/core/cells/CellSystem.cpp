@@ -946,69 +946,72 @@ template <typename F> void CellSystem::for_each_own_image(ParticleStore const &p
   }
 }
 
+// One point-to-point exchange of T records with the neighbour ranks: n_out(q)
+// records to rank q, written by fill(q, out); n_in(q) from rank q, read by
+// consume(q, in). The buffers only grow, so a run reuses them step after step.
+template <typename T, typename NOut, typename NIn, typename Fill, typename Consume>
+void CellSystem::exchange_records(NOut &&n_out, NIn &&n_in, Fill &&fill, Consume &&consume) const {
+  static_assert(std::is_trivially_copyable_v<T>);
+  int const size = m_comm->size();
+  auto &sb = m_xblocks[0];
+  auto &rb = m_xblocks[1];
+  sb.clear();
+  rb.clear();
+  for (int q = 0; q < size; ++q) {
+    std::size_t const n_o = n_out(q), n_i = n_in(q);
+    if (n_o > 0) {
+      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_o * sizeof(T)));
+      fill(q, out);
+      sb.push_back({q, out, n_o * sizeof(T)});
+    }
+    if (n_i > 0)
+      rb.push_back({q, grow_buffer(m_xrecv, q, n_i * sizeof(T)), n_i * sizeof(T)});
+  }
+  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
+  for (auto const &blk : rb)
+    consume(blk.rank, reinterpret_cast<T const *>(blk.data));
+}
+
 // Owners -> other ranks' ghosts: pack(send entry) for each entry of m_send,
 // unpack(ghost index, value) on the receiving rank, in the same order. The
 // sizes are fixed between rebuilds (m_send[q] out, m_recv_count[q] in), so
 // the data go point to point to the neighbour ranks, with no count exchange.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::to_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
-  static_assert(std::is_trivially_copyable_v<T>);
-  int const size = m_comm->size();
-  auto &sb = m_xblocks[0];
-  auto &rb = m_xblocks[1];
-  sb.clear();
-  rb.clear();
-  for (int q = 0; q < size; ++q) {
-    std::size_t const n_out = m_send[q].size(), n_in = static_cast<std::size_t>(m_recv_count[q]);
-    if (n_out > 0) {
-      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
-      SendEntry const *const e = m_send[q].data();
-      for (std::size_t k = 0; k < n_out; ++k)
-        out[k] = pack(e[k]);
-      sb.push_back({q, out, n_out * sizeof(T)});
-    }
-    if (n_in > 0)
-      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
-  }
-  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
-  for (auto const &blk : rb) {
-    T const *const in = reinterpret_cast<T const *>(blk.data);
-    int const g0 = m_recv_begin[blk.rank], n_in = m_recv_count[blk.rank];
-    for (int k = 0; k < n_in; ++k)
-      unpack(g0 + k, in[k]);
-  }
+  exchange_records<T>(
+      [&](int q) { return m_send[q].size(); },
+      [&](int q) { return static_cast<std::size_t>(m_recv_count[q]); },
+      [&](int q, T *out) {
+        SendEntry const *const e = m_send[q].data();
+        std::size_t const n = m_send[q].size();
+        for (std::size_t k = 0; k < n; ++k)
+          out[k] = pack(e[k]);
+      },
+      [&](int q, T const *in) {
+        int const g0 = m_recv_begin[q], n = m_recv_count[q];
+        for (int k = 0; k < n; ++k)
+          unpack(g0 + k, in[k]);
+      });
 }
 
 // The reverse: pack(ghost index) for the ghosts from each rank, unpack(local
 // index, value) on their owner.
 template <typename T, typename Pack, typename Unpack>
 void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
-  static_assert(std::is_trivially_copyable_v<T>);
-  int const size = m_comm->size();
-  auto &sb = m_xblocks[0];
-  auto &rb = m_xblocks[1];
-  sb.clear();
-  rb.clear();
-  for (int q = 0; q < size; ++q) {
-    std::size_t const n_out = static_cast<std::size_t>(m_recv_count[q]), n_in = m_send[q].size();
-    if (n_out > 0) {
-      T *const out = reinterpret_cast<T *>(grow_buffer(m_xsend, q, n_out * sizeof(T)));
-      int const g0 = m_recv_begin[q];
-      for (std::size_t k = 0; k < n_out; ++k)
-        out[k] = pack(g0 + static_cast<int>(k));
-      sb.push_back({q, out, n_out * sizeof(T)});
-    }
-    if (n_in > 0)
-      rb.push_back({q, grow_buffer(m_xrecv, q, n_in * sizeof(T)), n_in * sizeof(T)});
-  }
-  m_comm->neighbor_exchange_blocks(sb.data(), static_cast<int>(sb.size()), rb.data(), static_cast<int>(rb.size()));
-  for (auto const &blk : rb) {
-    T const *const in = reinterpret_cast<T const *>(blk.data);
-    int const *const idx = m_send_index[blk.rank].data();
-    std::size_t const n_in = m_send_index[blk.rank].size();
-    for (std::size_t k = 0; k < n_in; ++k)
-      unpack(idx[k], in[k]);
-  }
+  exchange_records<T>(
+      [&](int q) { return static_cast<std::size_t>(m_recv_count[q]); },
+      [&](int q) { return m_send[q].size(); },
+      [&](int q, T *out) {
+        int const g0 = m_recv_begin[q], n = m_recv_count[q];
+        for (int k = 0; k < n; ++k)
+          out[k] = pack(g0 + k);
+      },
+      [&](int q, T const *in) {
+        int const *const idx = m_send_index[q].data();
+        std::size_t const n = m_send_index[q].size();
+        for (std::size_t k = 0; k < n; ++k)
+          unpack(idx[k], in[k]);
+      });
 }
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {

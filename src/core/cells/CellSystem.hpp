@@ -231,6 +231,8 @@ private:
   void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
   bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const;
   template <typename F> void for_each_own_image(ParticleStore const &ps, F &&fn) const;
+  template <typename T, typename NOut, typename NIn, typename Fill, typename Consume>
+  void exchange_records(NOut &&n_out, NIn &&n_in, Fill &&fill, Consume &&consume) const;
   template <typename T, typename Pack, typename Unpack>
   void to_remote_ghosts(Pack &&pack, Unpack &&unpack) const;
   template <typename T, typename Pack, typename Unpack>
