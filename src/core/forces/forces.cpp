@@ -215,14 +215,16 @@ void System::check_forces_finite() const {
     int const n = m_ps.n_local();
     double const big = std::numeric_limits<double>::max();
     auto const *const f = m_ps.f.data();
-    for (int i = 0; i < n; ++i) // inf or NaN
-      any_bad |= (!(std::abs(f[i][0]) <= big) ? 1 : 0) | (!(std::abs(f[i][1]) <= big) ? 1 : 0) |
-                 (!(std::abs(f[i][2]) <= big) ? 1 : 0);
+    auto const not_finite = [big](Utils::Vector3d const &v) { // inf or NaN
+      return (!(std::abs(v[0]) <= big) ? 1 : 0) | (!(std::abs(v[1]) <= big) ? 1 : 0) |
+             (!(std::abs(v[2]) <= big) ? 1 : 0);
+    };
+    for (int i = 0; i < n; ++i)
+      any_bad |= not_finite(f[i]);
 #ifdef ROTATION
     auto const *const t = m_ps.torque.data();
     for (int i = 0; i < n; ++i)
-      any_bad |= (!(std::abs(t[i][0]) <= big) ? 1 : 0) | (!(std::abs(t[i][1]) <= big) ? 1 : 0) |
-                 (!(std::abs(t[i][2]) <= big) ? 1 : 0);
+      any_bad |= not_finite(t[i]);
 #endif
   }
   for (int i = 0; any_bad && i < m_ps.n_local(); ++i) {

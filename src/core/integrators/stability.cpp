@@ -19,13 +19,18 @@ namespace Marble {
 namespace {
 
 // int_0^rc w(r)^2 4 pi (r + R)^2 dr (R = 0 for pairs), midpoint rule.
-template <typename W> double weight_integral(W const &w, double rc, double R) {
+// int_0^rc w(r)^2 4 pi (r + R)^power dr (midpoint rule, 200 intervals);
+// power 2: the shell's volume weight, 4: with the lever arm squared.
+template <typename W> double weight_integral(W const &w, double rc, double R, int power = 2) {
   int const n = 200;
   double s = 0.;
   for (int k = 0; k < n; ++k) {
     double const r = (k + 0.5) * rc / n;
     double const x = w(r);
-    s += x * x * 4. * M_PI * (r + R) * (r + R);
+    double term = x * x * 4. * M_PI;
+    for (int e = 0; e < power; ++e)
+      term *= r + R;
+    s += term;
   }
   return s * rc / n;
 }
@@ -95,6 +100,10 @@ FrictionRates friction_rates(System &sys,
   std::vector<double> bead(nt, 0.),
       one(nt, 0.); // per type: DPD and one-body rates
   std::vector<std::string> bead_what(nt);
+  // names one more friction term acting on beads of type t
+  auto const note_bead = [&](int t, std::string const &what) {
+    bead_what[t] += (bead_what[t].empty() ? "" : " + ") + what;
+  };
   for (int a = 0; a < nt; ++a) {
     if (st.count[a] == 0.)
       continue;
@@ -120,10 +129,9 @@ FrictionRates friction_rates(System &sys,
 #endif
       double const rate = g * M * (1. / ma + 1. / mb) * st.count[b] / V;
       bead[a] += rate;
-      bead_what[a] += (bead_what[a].empty() ? "" : " + ") +
-                      std::string("DPD of types ") + std::to_string(a) + "-" +
+      note_bead(a, std::string("DPD of types ") + std::to_string(a) + "-" +
                       std::to_string(b) + " (gamma " + fmt(p.radial.gamma) +
-                      ")";
+                      ")");
       if (bead[a] > out.dpd) {
         out.dpd = bead[a];
         out.dpd_where = bead_what[a];
@@ -144,9 +152,8 @@ FrictionRates friction_rates(System &sys,
       R = std::max(R, m.radius);
       // bead side: one-body friction gamma w^2 / m with w <= 1
       one[s] += m.gamma / st.m_min[s];
-      bead_what[s] += (bead_what[s].empty() ? "" : " + ") +
-                      std::string("marble coupling ") + std::to_string(c) +
-                      "-" + std::to_string(s) + " (gamma " + fmt(m.gamma) + ")";
+      note_bead(s, std::string("marble coupling ") + std::to_string(c) +
+                      "-" + std::to_string(s) + " (gamma " + fmt(m.gamma) + ")");
       // colloid side: sum over the shell of gamma w^2, with the solvent density
       // outside the colloids ~ count / V
       double const shell =
@@ -188,10 +195,9 @@ FrictionRates friction_rates(System &sys,
         // the partner b of the surface a: one-body bound gamma / m_b (each
         // ordered pair once: (b, a) adds a's)
         one[b] += p.gamma / st.m_min[b];
-        bead_what[b] += (bead_what[b].empty() ? "" : " + ") +
-                        std::string("surface_friction of types ") +
+        note_bead(b, std::string("surface_friction of types ") +
                         std::to_string(a) + "-" + std::to_string(b) +
-                        " (gamma " + fmt(p.gamma) + ")";
+                        " (gamma " + fmt(p.gamma) + ")");
         if (!(p.a1 > 0.) || p.a2 > 0.)
           continue; // the shell sum for a sphere with point partners only
         double const n = st.count[b] / V;
@@ -200,13 +206,8 @@ FrictionRates friction_rates(System &sys,
         };
         double const shell2 =
             p.gamma * n * weight_integral(w, p.r_cut, p.a1);
-        int const k = 200;
-        double shell4 = 0.;
-        for (int q = 0; q < k; ++q) {
-          double const h = (q + 0.5) * p.r_cut / k, x = w(h), r = p.a1 + h;
-          shell4 += x * x * 4. * M_PI * r * r * r * r;
-        }
-        shell4 *= p.gamma * n * p.r_cut / k;
+        double const shell4 =
+            p.gamma * n * weight_integral(w, p.r_cut, p.a1, 4);
         double const trans = (2. / 3.) * shell2 / st.m_min[a];
         double const rot = std::isfinite(st.rinertia_min[a])
                                ? (2. / 3.) * shell4 / st.rinertia_min[a]
@@ -234,10 +235,9 @@ FrictionRates friction_rates(System &sys,
       if (!p.active || p.gamma <= 0.)
         continue;
       one[s] += p.gamma / st.m_min[s];
-      bead_what[s] += (bead_what[s].empty() ? "" : " + ") +
-                      std::string("tunable-slip wall type ") +
+      note_bead(s, std::string("tunable-slip wall type ") +
                       std::to_string(w.type) + " (gamma_L " + fmt(p.gamma) +
-                      ")";
+                      ")");
       break;
     }
   }
