@@ -174,6 +174,10 @@ void CellSystem::update_neighbour_ranks(BoxGeometry const &box, double radius) {
 int CellSystem::rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords) {
   return rank_of(grid, coords);
 }
+std::array<int, 3> CellSystem::coords_at(std::array<int, 3> const &grid, int rank) {
+  return coords_of(grid, rank);
+}
+int CellSystem::axis_coord_at(double x, double dl, int p) { return axis_coord(x, dl, p); }
 
 int CellSystem::owner_rank(Vector3d const &pos, BoxGeometry const &box) const {
   if (!parallel())

@@ -162,6 +162,11 @@ public:
   std::array<int, 3> node_grid(BoxGeometry const &box) const;
   /** Rank of the domain at @p coords of the node grid @p grid. */
   static int rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords);
+  /** Node-grid coordinates of @p rank in the node grid @p grid (inverse of rank_at). */
+  static std::array<int, 3> coords_at(std::array<int, 3> const &grid, int rank);
+  /** Node coordinate along one axis of the position @p x: clamp(floor(x / dl), 0, p - 1)
+   * for @p p domains of width @p dl (the rule of owner_rank). */
+  static int axis_coord_at(double x, double dl, int p);
   /** Rank owning the (folded) position @p pos. */
   int owner_rank(Utils::Vector3d const &pos, BoxGeometry const &box) const;
   /** Lower corner and size of this rank's domain. */

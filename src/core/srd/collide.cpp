@@ -150,14 +150,14 @@ std::array<std::pair<double, double>, 3> Fluid::domain_box(System &s) const {
   auto const ng = s.cells().node_grid(box);
   auto const &L = box.length();
   int const me = comm.rank();
-  int const mc[3] = {me / (ng[1] * ng[2]), (me / ng[2]) % ng[1], me % ng[2]};
+  auto const mc = CellSystem::coords_at(ng, me);
   for (int d = 0; d < 3; ++d) {
     if (ng[d] < 2)
       continue;
     double const dl = L[d] / ng[d];
     // the node coordinate of CellSystem::owner_rank, clamp(floor(x / dl)), is
     // monotonic in x: the slab is [first x of coordinate mc, first x of mc + 1)
-    auto coord = [&](double x) { return std::clamp(std::floor(x / dl), 0., static_cast<double>(ng[d] - 1)); };
+    auto coord = [&](double x) { return CellSystem::axis_coord_at(x, dl, ng[d]); };
     auto first_at = [&](int j) {
       if (j <= 0)
         return -inf;
@@ -207,7 +207,7 @@ void Fluid::migrate(System &s) {
   for (int i : m_leave) {
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
-      c[d] = static_cast<int>(std::clamp(std::floor(pos[i][d] / (L[d] / ng[d])), 0., static_cast<double>(ng[d] - 1)));
+      c[d] = CellSystem::axis_coord_at(pos[i][d], L[d] / ng[d], ng[d]);
     send[CellSystem::rank_at(ng, c)].push_back({pos[i], v[i], id[i], type[i]});
   }
   auto const recv = comm.alltoallv(send);
@@ -390,7 +390,7 @@ void Fluid::collide(System &s) {
   par.shared_g.clear();
   if (comm.parallel()) {
     int const me = comm.rank();
-    int const mc[3] = {me / (ng[1] * ng[2]), (me / ng[2]) % ng[1], me % ng[2]};
+    auto const mc = CellSystem::coords_at(ng, me);
     m_slot.assign(n_cells, -1);
     for (int d = 0; d < 3; ++d) {
       auto &beg = par.beg[d], &lst = par.lst[d];
