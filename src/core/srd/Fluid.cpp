@@ -635,11 +635,23 @@ void Fluid::stream(System &s, double dt) {
       fold(R0[j], L);
     }
     std::vector<Cand> cand;
-    auto consider = [&](int i, std::size_t j) {
+    // quick rejection in the indexed search: a particle that is not loose
+    // moves no faster than m_vmax in this step (walls and drive included), so
+    // one farther than radius + margin + (m_vmax + |V|) dt from R0 cannot
+    // come within radius + margin (the slack 1e-9 keeps the exact test's
+    // round-off out of it: the same candidates)
+    std::vector<double> reach2(cols.size(), 0.);
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      double const reach = (r_pair[j] + margin + (m_vmax + cols[j].V.norm()) * dt) * (1. + 1e-9);
+      reach2[j] = reach * reach;
+    }
+    auto consider = [&](int i, std::size_t j, bool quick) {
+      Vector3d const d0 = mi_folded(pos[i], R0[j], L);
+      if (quick && d0.norm2() > reach2[j])
+        return;
       auto const &b = bnd(cols[j].type, type[i]);
       if (!b.active || b.coupling != Coupling::pair)
         return;
-      Vector3d const d0 = mi_folded(pos[i], R0[j], L);
       double const rr = b.radius + margin;
       int const ws = wall_events ? m_wslot[i] : -1;
       if (ws < 0) {
@@ -675,12 +687,12 @@ void Fluid::stream(System &s, double dt) {
         near(cols[j].R, r_pair[j] + margin + cols[j].V.norm() * dt, L, near_list);
         for (int i : near_list)
           if (!m_is_loose[i])
-            consider(i, j);
+            consider(i, j, true);
       }
       for (int i : m_loose)
         for (std::size_t j = 0; j < cols.size(); ++j)
           if (r_pair[j] > 0.)
-            consider(i, j);
+            consider(i, j, false);
     } else {
       for (int i = 0; i < n; ++i)
         for (std::size_t j = 0; j < cols.size(); ++j) {
@@ -694,7 +706,7 @@ void Fluid::stream(System &s, double dt) {
             if (std::abs(dx) >= r_pair[j] + margin + (std::abs(v[i][0]) + std::abs(cols[j].V[0])) * dt)
               continue;
           }
-          consider(i, j);
+          consider(i, j, false);
         }
     }
     if (s.comm().parallel())
@@ -714,6 +726,7 @@ void Fluid::stream(System &s, double dt) {
       double tc = 0.;
       int ver = 0;
       double dv = 0.; // largest |V - V(0)| within the step
+      double A = 0.;  // sum of |dV| (dt - t) over its events so far
       std::vector<int> pairs;
     };
     std::vector<PState> P;
@@ -745,27 +758,43 @@ void Fluid::stream(System &s, double dt) {
       }
     };
     std::vector<Ev> heap;
+    // Per pair, when its last computation found no crossing within the step:
+    // clr = its smallest distance from contact over the rest of the step,
+    // acc0 = the colloid's A then (else clr = -1). While the particle keeps
+    // its velocity, the colloid's velocity changes since then move the pair's
+    // relative path by at most A - acc0 (the sum of |dV| (dt - t) over them),
+    // so a pair with clr > A - acc0 still has no crossing and its recomputation
+    // after a velocity change of the colloid is skipped (it would schedule
+    // nothing: the same sequence of events; the slack 1e-9 radius keeps
+    // round-off out of it).
+    std::vector<double> clr(cand.size(), -1.), acc0(cand.size(), 0.);
     auto schedule = [&](int k, double t_now) {
       auto const &c = cand[k];
       auto const &p = P[p_of[k]];
       auto const &cs = C[c.j];
+      clr[k] = -1.;
       if (p.nb >= kMaxEventBounces)
         return;
       Vector3d const dn = c.d0 + (p.X + (t_now - p.tp) * p.v) - (cs.D + (t_now - cs.tc) * cs.V);
       Vector3d const w = p.v - cs.V;
       double const bb = dn * w;
-      if (!(bb < 0.))
-        return; // not approaching
-      double const cc = dn.norm2() - rad[k] * rad[k];
-      double const disc = bb * bb - w.norm2() * cc;
-      if (disc < 0.)
-        return; // passes by
-      // the entry root, stable form (c / (larger root)); 0 if inside already
-      double const t = t_now + (cc <= 0. ? 0. : cc / (-bb + std::sqrt(disc)));
-      if (!(t <= dt))
-        return;
-      heap.push_back({t, c.pid, c.j, k, p.ver, cs.ver});
-      std::push_heap(heap.begin(), heap.end(), std::greater<Ev>{});
+      if (bb < 0.) { // approaching
+        double const cc = dn.norm2() - rad[k] * rad[k];
+        double const disc = bb * bb - w.norm2() * cc;
+        if (disc >= 0.) { // else it passes by
+          // the entry root, stable form (c / (larger root)); 0 if inside already
+          double const t = t_now + (cc <= 0. ? 0. : cc / (-bb + std::sqrt(disc)));
+          if (t <= dt) {
+            heap.push_back({t, c.pid, c.j, k, p.ver, cs.ver});
+            std::push_heap(heap.begin(), heap.end(), std::greater<Ev>{});
+            return;
+          }
+        }
+      }
+      double const w2 = w.norm2();
+      double const s = w2 > 0. ? std::clamp(-bb / w2, 0., std::max(0., dt - t_now)) : 0.;
+      clr[k] = (dn + s * w).norm() - rad[k];
+      acc0[k] = cs.A;
     };
     // walled channel: the particle's next wall bounce (j = -1, k = its state)
     auto schedule_wall = [&](int pi, double t_now) {
@@ -829,15 +858,20 @@ void Fluid::stream(System &s, double dt) {
       auto const bo = pair_rule(b, m, col.M, col.I, cs.V, cs.W, nrm, p.v, kT, m_p.seed, step,
                                 static_cast<std::uint64_t>(c.pid), key0(p.nb), key1(p.nb));
       cs.V += bo.J / col.M;
+      cs.A += (bo.J / col.M).norm() * (dt - t);
       cs.dv = std::max(cs.dv, (cs.V - col.V).norm());
       if (col.I > 0.)
         cs.W += cross(arm, bo.J) / col.I;
       dP[e.j] += bo.J;
       p.v = bo.vn;
       ++p.nb, ++p.ver, ++cs.ver;
+      clr[e.k] = -1.; // the particle's new velocity (not recomputed now)
       for (int k2 : cs.pairs) // the colloid's new velocity: its other pairs
-        if (k2 != e.k)
+        if (k2 != e.k) {
+          if (clr[k2] - (cs.A - acc0[k2]) > 1e-9 * rad[k2])
+            continue; // no crossing possible before the end of the step
           schedule(k2, t);
+        }
       for (int k2 = p.k0; k2 < p.k1; ++k2) // the particle's new velocity: its other colloids
         if (k2 != e.k)
           schedule(k2, t);
