@@ -129,6 +129,22 @@ def test_forces_energy_virial_match_numpy(offset, axes):
     np.testing.assert_allclose(s.distance_vec(p0, p1), d, atol=1e-12)
 
 
+def test_offset_drift_rebuilds_lists():
+    """Particles held fixed, images moving 0.03 per step (shear velocity 6):
+    only the offset drift can trigger the list rebuilds (every ~10 steps for
+    skin 0.3); a list check without it would miss the pairs that the moving
+    images bring into range."""
+    s = soft_scene(0.2, shear_velocity=6.0)
+    s.part.all().fix = [[True, True, True]] * len(s.part.all())
+    s.integrator.run(0)
+    r0 = s._core.n_rebuilds()
+    for n_steps in (7, 40, 40):
+        s.integrator.run(n_steps)
+        f, u, vir = numpy_hat(s)
+        np.testing.assert_allclose(s.part.all().f, f, atol=1e-10)
+    assert s._core.n_rebuilds() - r0 >= 6
+
+
 @pytest.mark.parametrize("large", ["auto", [1], None])
 def test_two_types_large_range(large):
     """Big particles (type 1, pair ranges 3.0 among them and 2.0 to the small

@@ -20,6 +20,8 @@ import numbers
 
 import numpy as np
 
+__all__ = ["LeesEdwards", "LinearShear", "OscillatoryShear", "Off"]
+
 _AXES = {"x": 0, "y": 1, "z": 2}
 _NAMES = "xyz"
 
