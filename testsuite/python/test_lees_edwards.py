@@ -259,3 +259,30 @@ def test_bad_input():
     s.periodicity = [True, False, True]
     with pytest.raises(RuntimeError, match="Lees-Edwards.*periodic"):
         s.integrator.run(1)
+
+
+def test_refuses_marble_colloids_and_srd():
+    s = marble.System(box_l=[8.0, 8.0, 8.0])
+    s.time_step = 0.01
+    rng = np.random.default_rng(3)
+    s.part.add(pos=rng.uniform(0, 8, (300, 3)))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=1.0, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=1.0, seed=2)
+    s.lees_edwards.set_boundary_conditions(shear_direction="x", shear_plane_normal="y",
+                                           protocol=le.LinearShear(shear_velocity=0.1))
+    s.integrator.run(2)
+    if marble.has_features("MARBLE"):
+        from marble.colloids import add_marble
+        add_marble(s, pos=[4.0, 4.0, 4.0], radius=1.5, gamma=5.0, coupling="dpd")
+        with pytest.raises(RuntimeError, match="Lees-Edwards.*marble colloids"):
+            s.integrator.run(1)
+    if marble.has_features("SRD"):
+        from marble import srd
+        s2 = marble.System(box_l=[6.0, 6.0, 6.0], time_step=0.1)
+        s2.srd = srd.SRDFluid(types=[0], cell_size=1.0, tau=0.1, angle=130, kT=1.0, seed=1)
+        srd.add_fluid(s2, density=5, type=0, kT=1.0, seed=5)
+        s2.lees_edwards.set_boundary_conditions(shear_direction="x", shear_plane_normal="y",
+                                                protocol=le.LinearShear(shear_velocity=0.1))
+        with pytest.raises(RuntimeError, match="Lees-Edwards.*SRD"):
+            s2.integrator.run(1)
+
