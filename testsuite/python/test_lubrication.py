@@ -89,6 +89,34 @@ class Lubrication(unittest.TestCase):
         # id order reversed: same unordered-pair noise, sign by id order
         self.check(PARAMS[0], 0.2, 1.0, ids=(8, 3), v=False)
 
+    def test_stress_virial(self):
+        """dpd_stress_split() and pressure_tensor()['dpd'] carry the lubrication's
+        virial (1/V) d (x) F, friction and noise apart (issue 13: the virial of
+        every kernel), checked against the independent force above."""
+        for prm in PARAMS:
+            for h in (0.0005, 0.1, 0.3):
+                if h >= prm["h_cut"]:
+                    continue
+                with self.subTest(prm=prm, h=h):
+                    kT, ids = 1.3, (3, 8)
+                    e = self.rng.normal(size=3)
+                    e /= np.linalg.norm(e)
+                    x2 = np.array([4.0, 5.0, 5.5])
+                    x1 = x2 + (prm["a1"] + prm["a2"] + h) * e
+                    v1, v2 = self.rng.normal(size=3), self.rng.normal(size=3)
+                    s, p1, p2 = make_pair(prm, kT, x1, x2, v1, v2, ids=ids)
+                    xi = pair_uniform3(5, SALT_LUB, 11, min(ids), max(ids))
+                    d = x1 - x2
+                    V = 10.0 ** 3
+                    fric = np.outer(d, ref_force(prm, d, v1 - v2, np.zeros(3), kT, DT)) / V
+                    noise = np.outer(d, ref_force(prm, d, np.zeros(3), xi, kT, DT)) / V
+                    st = s.analysis.dpd_stress_split()
+                    for got, ref in ((st["friction"], fric), (st["noise"], noise), (st["total"], fric + noise)):
+                        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
+                    np.testing.assert_allclose(s.analysis.pressure_tensor()["dpd"], fric + noise, rtol=0,
+                                               atol=1e-12 * np.max(np.abs(fric + noise)))
+                    self.assertGreater(np.max(np.abs(fric)), 0.0)
+
     def test_leading_term_equal_spheres(self):
         """(3 pi/2) eta a^2 / h for equal spheres: seed 004's and Ball-Melrose's form."""
         for h in (0.01, 0.1, 0.4):

@@ -61,7 +61,9 @@ class Analysis:
     def dpd_stress_split(self):
         """DPD part of the pressure tensor (3x3 arrays): 'friction' (what
         :meth:`dpd_stress` returns), 'noise' (the random forces of the current
-        step) and 'total' = their sum, each (1/V) sum_pairs d_ij (x) F_ij.
+        step) and 'total' = their sum, each (1/V) sum_pairs d_ij (x) F_ij,
+        F_ij summed over the pair-dissipative kernels (DPD, lubrication) and
+        the stick friction (surface_friction).
         The full pressure tensor of a DPD fluid is
         ``pressure_tensor()["total"] + dpd_stress_split()["total"]``."""
         return dict(self._core.dpd_stress())
