@@ -36,14 +36,15 @@ R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
-def scene(phi, box, dt, seed=11, equil=10.0):
+def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip"):
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=seed, h_cut=1.0, solvent_count="exact", **SOFT_CONTACT)
+                                    seed=seed, h_cut=1.0, solvent_count="exact", boundary=boundary,
+                                    **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
         rng = np.random.default_rng(seed)
         n = int(round(3.0 * np.prod(box)))
@@ -104,17 +105,34 @@ def main():
     ap.add_argument("--phi", type=float, default=0.1)
     ap.add_argument("--time", type=float, default=200.0)
     ap.add_argument("--dt", type=float, default=0.005)
+    ap.add_argument("--boundary", choices=["slip", "stick"], default="slip",
+                    help="setup_suspension's colloid surface (slip: seed 004's colloid; stick: section 7c/7d)")
+    ap.add_argument("--seed", type=int, default=11)
+    ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
+                    help="use this solvent viscosity and error instead of measuring it")
+    ap.add_argument("--json", help="append the results (a JSON line) to this file")
     args = ap.parse_args()
     if os.environ.get("MARBLE_SAMPLE_TEST"):
         args.box, args.time = [6.0, 6.0, 6.0], 2.0
     results = {}
-    for phi in (0.0, args.phi):
-        s, info = scene(phi, args.box, args.dt, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+    runs = (args.phi,) if args.eta0 else (0.0, args.phi)
+    if args.eta0:
+        results[0.0] = tuple(args.eta0)
+    for phi in runs:
+        s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary,
+                        equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
         print(f"phi = {phi:.3f} ({info.get('n_colloids', 0)} colloids): eta = {eta:.4f} +/- {err:.4f}, "
               f"profile slope {slope:.4f} +/- {slope_err:.4f} (imposed {args.rate}), kT {kt:.4f}")
+        if args.json:
+            import json
+            with open(args.json, "a") as f:
+                f.write(json.dumps(dict(phi=info.get("phi", 0.0), phi_nominal=phi, boundary=args.boundary if phi else "solvent",
+                                        n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
+                                        time=args.time, dt=args.dt, seed=args.seed, eta=eta, eta_err=err,
+                                        slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
     print(f"eta_r({args.phi}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "
