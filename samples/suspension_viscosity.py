@@ -40,6 +40,13 @@ Poisson number, as the runs of sections 7-7c; section 7d: the density scatter of
 Poisson count shifts eta by several %, and eta_0 must be measured at the same density). The default "slip" is seed 004's colloid, whose central colloid-solvent
 friction makes it a slipping sphere (section 7b).
 
+Shear-induced migration (doc/suspensions.md section 7e): in the reverse Poiseuille
+channel the colloids drift towards the planes of zero shear, where the fit is made;
+in the 7 x 7 x 10 box the fitted region's volume fraction is ~9 % above phi (0.214 at
+phi = 0.197, 0.327 at 0.299), so eta_r belongs to that higher phi. Compare with theory
+at the fitted region's phi (bench/suspension_stick_viscosity.py --structure and
+bench/suspension_structure.py measure it).
+
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
 not developed then; the numbers are noise).
