@@ -337,7 +337,8 @@ def report_eta(tab):
                   + ", ".join(f"{a / 0.329:.3f}" for a in p["d_eta"]))
 
 
-def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, single=False, far=1.0, dr=0.05):
+def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, single=False, far=1.0, dr=0.05,
+                    extra=0.0):
     """The solvent around the colloids at rest: the bead density against the distance
     r - a from the nearest colloid centre (a the core radius; shell volumes by Monte
     Carlo), the density beyond ``far`` from every core surface ("bulk") and the excess
@@ -345,7 +346,9 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
     ``single``: the single stick colloid of the drag calibration (phi = 0.05, cube
     L = 4.376, one colloid at the centre, doc/suspensions.md 7c/7d) instead of the
     viscosity scene (samples/suspension_viscosity.py, calibrated stick colloids,
-    exact solvent count). Returns a dict."""
+    exact solvent count). ``extra``: beads per colloid added after the setup as
+    bench/suspension_stick_viscosity.py --extra-solvent does (then 20 time units at
+    rest). Returns a dict."""
     import os
     import sys
     import marble
@@ -366,6 +369,22 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
         box = np.asarray(box, float)
         s, info = sample.scene(phi, box, seed=seed, equil=20.0, boundary="stick", solvent_count="exact")
     a = info["core_radius"]
+    n_extra = int(round(extra * info["n_colloids"]))
+    if n_extra > 0:  # as bench/suspension_stick_viscosity.py --extra-solvent
+        r2 = np.random.default_rng([seed, 7])
+        cp = np.mod(np.asarray(s.part.by_ids(info["colloid_ids"]).pos, float), box)
+        new = np.empty((0, 3))
+        while len(new) < n_extra:
+            x = r2.uniform(0, 1, (4 * n_extra, 3)) * box
+            keep = np.ones(len(x), bool)
+            for c in cp:
+                d = x - c
+                d -= box * np.round(d / box)
+                keep &= np.linalg.norm(d, axis=1) >= a
+            new = np.vstack([new, x[keep]])
+        added = s.part.add(pos=new[:n_extra], type=[0] * n_extra, v=r2.normal(size=(n_extra, 3)) * np.sqrt(0.1))
+        info = dict(info, solvent_ids=np.concatenate([info["solvent_ids"], np.asarray(added.id)]))
+        s.integrator.run(2000)
     V = float(np.prod(box))
     col = s.part.by_ids(info["colloid_ids"])
     sol = s.part.by_ids(info["solvent_ids"])
@@ -406,7 +425,7 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
                 nominal_density=len(info["solvent_ids"]) / (V - n_col * 4.0 / 3.0 * math.pi * a ** 3),
                 bulk_density=bulk, bulk_density_err=bulk_err, far=far, excess_per_colloid=float(excess),
                 h=(0.5 * (edges[1:] + edges[:-1])).tolist(), density=(cnt / np.maximum(vol, 1e-12)).tolist(),
-                single=single, seed=seed, frames=frames)
+                single=single, seed=seed, frames=frames, extra=extra)
 
 
 if __name__ == "__main__":
@@ -418,9 +437,10 @@ if __name__ == "__main__":
         ap.add_argument("--seed", type=int, default=11)
         ap.add_argument("--single", action="store_true", help="the single colloid of the drag calibration")
         ap.add_argument("--frames", type=int, default=100)
+        ap.add_argument("--extra", type=float, default=0.0, help="beads per colloid added (--extra-solvent)")
         ap.add_argument("--json", help="append the result (a JSON line) to this file")
         a = ap.parse_args()
-        r = solvent_profile(a.phi, seed=a.seed, frames=a.frames, single=a.single)
+        r = solvent_profile(a.phi, seed=a.seed, frames=a.frames, single=a.single, extra=a.extra)
         print(f"phi {r['phi']:.4f}, {r['n_colloids']} colloid(s), core {r['core_radius']:.4f}, {r['n_solvent']} beads "
               f"(density {r['nominal_density']:.3f} in the free volume); bulk (farther than {r['far']} from every "
               f"core surface) {r['bulk_density']:.4f} +/- {r['bulk_density_err']:.4f}; excess beads per colloid "
