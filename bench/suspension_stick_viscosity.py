@@ -61,6 +61,8 @@ parser.add_argument("--extra-solvent", type=float, default=0.0,
                     help="beads per colloid added after the setup (outside the cores; then --equil more at rest): "
                          "the solvent the colloids adsorb (doc/suspensions.md 7e: ~4 per colloid), so that the "
                          "bulk density stays near rho")
+parser.add_argument("--density", type=float, default=None,
+                    help="solvent density (default setup_suspension's 3; section 7e: eta_0 at the depleted bulk density)")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 args = parser.parse_args()
 if args.rest and not args.structure:
@@ -71,6 +73,8 @@ box = np.array(args.box, dtype=float)
 
 t0 = time.process_time()
 kw = dict(solvent_count=args.solvent_count)
+if args.density is not None:
+    kw["density"] = args.density
 if args.phi > 0:
     kw = dict(kw, boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
@@ -125,7 +129,7 @@ out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            phi_core=info.get("phi_core", 0.0), phi_hydrodynamic=info.get("phi_hydrodynamic"),
            core_radius=info.get("core_radius"), radius_calibration=info.get("radius_calibration"),
            n_solvent=len(s.part.all()) - info["n_colloids"], solvent_count=args.solvent_count,
-           extra_solvent=args.extra_solvent)
+           extra_solvent=args.extra_solvent, density=3.0 if args.density is None else args.density)
 out["cpu_s"] = time.process_time() - t0
 print(json.dumps(out))
 print(f"phi = {out['phi']:.4f} (cores {out['phi_core']:.4f}; {out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "

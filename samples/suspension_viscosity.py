@@ -89,7 +89,7 @@ def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw)
         # "exact": a point-sized placeholder colloid, so that no hole is cut from the solvent
         info = sus.setup_suspension(s, phi=1e-9, radius=R if count == "poisson" else 1e-3, kT=KT,
                                     gamma=GAMMA, eta=ETA0, seed=seed, positions=[0.5 * box],
-                                    solvent_count=count, **contact)
+                                    solvent_count=count, density=suspension_kw.get("density", 3.0), **contact)
         s.part.by_ids(info["colloid_ids"]).remove()
         s.non_bonded_inter.reset()
         s.non_bonded_inter[0, 0].hat.set_params(F_max=info["a_ss"], cutoff=1.0)
