@@ -45,7 +45,10 @@ channel the colloids drift towards the planes of zero shear, where the fit is ma
 in the 7 x 7 x 10 box the fitted region's volume fraction is ~9 % above phi (0.214 at
 phi = 0.197, 0.327 at 0.299), so eta_r belongs to that higher phi. Compare with theory
 at the fitted region's phi (bench/suspension_stick_viscosity.py --structure and
-bench/suspension_structure.py measure it).
+bench/suspension_structure.py measure it). Also: the colloids adsorb ~4 solvent beads
+each, so the bulk solvent between them is below the density of the eta_0 scene (2.78
+instead of 3 at phi = 0.2) and eta/eta_0 understates the relative viscosity by 4-11 %
+(section 7e).
 
 With MARBLE_SAMPLE_TEST=1 (the ctest run) it uses a 7 x 7 x 8 box, phi = 0.05
 and 0.1 and 5 time units per scene: a smoke test of the pipeline (the flow has
