@@ -9,7 +9,15 @@ measurement are the sample's (imported).
     ./pymarble bench/suspension_stick_viscosity.py --phi 0 --time 3000 --json out.jsonl   # solvent
     ./pymarble bench/suspension_stick_viscosity.py --phi 0.1 --boundary stick --time 3000 --json out.jsonl
 
-The runs quoted in doc/suspensions.md section 7c are in bench/results/suspension_stick.jsonl.
+The runs quoted in doc/suspensions.md section 7c are in bench/results/suspension_stick.jsonl,
+those of section 7e in bench/results/suspension_excess.jsonl.
+
+Section 7e's options: ``--structure FILE.npz`` records the colloid centres every
+``--structure-every`` time units during the measurement (through a wrapper of the
+integrator: the trajectory and eta are unchanged) for bench/suspension_structure.py;
+``--rest`` runs the scene without the force (structure only); ``--extra-solvent X``
+adds X beads per colloid after the setup (the solvent the colloids adsorb, so that the
+bulk density stays near rho) and equilibrates again at rest.
 """
 import argparse
 import json
@@ -45,14 +53,28 @@ parser.add_argument("--dt", type=float, default=0.01)
 parser.add_argument("--seed", type=int, default=11)
 parser.add_argument("--no-colloid-dpd", action="store_true", help="no DPD between colloids (seed 004 has it)")
 parser.add_argument("--no-lubrication", action="store_true", help="no squeeze lubrication (seed 004 has it)")
+parser.add_argument("--structure", help="record the colloid centres during the run into this .npz file "
+                    "(bench/suspension_structure.py; the trajectory is unchanged)")
+parser.add_argument("--structure-every", type=float, default=1.0, help="time units between recorded frames")
+parser.add_argument("--rest", action="store_true", help="no flow (g = 0): only the structure is recorded")
+parser.add_argument("--extra-solvent", type=float, default=0.0,
+                    help="beads per colloid added after the setup (outside the cores; then --equil more at rest): "
+                         "the solvent the colloids adsorb (doc/suspensions.md 7e: ~4 per colloid), so that the "
+                         "bulk density stays near rho")
+parser.add_argument("--density", type=float, default=None,
+                    help="solvent density (default setup_suspension's 3; section 7e: eta_0 at the depleted bulk density)")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 args = parser.parse_args()
+if args.rest and not args.structure:
+    parser.error("--rest needs --structure")
 
 marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
 box = np.array(args.box, dtype=float)
 
 t0 = time.process_time()
 kw = dict(solvent_count=args.solvent_count)
+if args.density is not None:
+    kw["density"] = args.density
 if args.phi > 0:
     kw = dict(kw, boundary=args.boundary, colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication)
     if args.boundary == "stick" and args.trans_gamma is not None:
@@ -64,7 +86,40 @@ if args.phi > 0:
             kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
 # the sample's scene and measurement (samples/suspension_viscosity.py)
 s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
-res = sample.measure(s, args.g, args.time)
+n_extra = int(round(args.extra_solvent * info["n_colloids"]))
+if n_extra > 0:
+    rng = np.random.default_rng([args.seed, 7])
+    cp = np.mod(np.asarray(s.part.by_ids(info["colloid_ids"]).pos, float), box)
+    new = np.empty((0, 3))
+    while len(new) < n_extra:
+        x = rng.uniform(0, 1, (4 * n_extra, 3)) * box
+        keep = np.ones(len(x), bool)
+        for c in cp:
+            d = x - c
+            d -= box * np.round(d / box)
+            keep &= np.linalg.norm(d, axis=1) >= info["core_radius"]
+        new = np.vstack([new, x[keep]])
+    s.part.add(pos=new[:n_extra], type=[0] * n_extra, v=rng.normal(size=(n_extra, 3)) * np.sqrt(0.1))
+    p_all = s.part.all()
+    v, m = np.asarray(p_all.v), np.asarray(p_all.mass)
+    p_all.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)
+    s.integrator.run(int(round(args.equil / args.dt)))
+if args.structure:
+    from suspension_structure import StructureSampler  # noqa: E402 (bench/)
+    sampler = StructureSampler(s, info["colloid_ids"], int(round(args.structure_every / args.dt)))
+    if args.rest:
+        sampler.run_rest(int(round(args.time / args.dt)))
+        res = None
+    else:
+        res = sample.measure(sampler, args.g, args.time)
+    sampler.save(args.structure, seed=args.seed, colloid_dpd=not args.no_colloid_dpd, rest=args.rest,
+                 g=0.0 if args.rest else args.g, phi=info["phi"], phi_core=info["phi_core"],
+                 core_radius=info["core_radius"], time=args.time, n_colloids=info["n_colloids"])
+else:
+    res = sample.measure(s, args.g, args.time)
+if res is None:
+    print(f"--rest: {len(sampler.frames)} frames written to {args.structure}")
+    sys.exit(0)
 out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            boundary=args.boundary if args.phi > 0 else "solvent", trans_gamma=info.get("trans_gamma"),
            shared=info.get("shared"), stick_shell=info.get("stick_shell"),
@@ -73,7 +128,8 @@ out = dict(phi=info["phi"], phi_nominal=args.phi, n_colloids=info["n_colloids"],
            colloid_dpd=not args.no_colloid_dpd, lubrication=not args.no_lubrication,
            phi_core=info.get("phi_core", 0.0), phi_hydrodynamic=info.get("phi_hydrodynamic"),
            core_radius=info.get("core_radius"), radius_calibration=info.get("radius_calibration"),
-           n_solvent=len(s.part.all()) - info["n_colloids"], solvent_count=args.solvent_count)
+           n_solvent=len(s.part.all()) - info["n_colloids"], solvent_count=args.solvent_count,
+           extra_solvent=args.extra_solvent, density=3.0 if args.density is None else args.density)
 out["cpu_s"] = time.process_time() - t0
 print(json.dumps(out))
 print(f"phi = {out['phi']:.4f} (cores {out['phi_core']:.4f}; {out['boundary']}): eta = {res.eta:.4f} +/- {res.eta_err:.4f}; "
