@@ -86,20 +86,7 @@ if args.phi > 0:
             kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
 # the sample's scene and measurement (samples/suspension_viscosity.py)
 s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
-n_extra = int(round(args.extra_solvent * info["n_colloids"]))
-if n_extra > 0:
-    rng = np.random.default_rng([args.seed, 7])
-    cp = np.mod(np.asarray(s.part.by_ids(info["colloid_ids"]).pos, float), box)
-    new = np.empty((0, 3))
-    while len(new) < n_extra:
-        x = rng.uniform(0, 1, (4 * n_extra, 3)) * box
-        keep = np.ones(len(x), bool)
-        for c in cp:
-            d = x - c
-            d -= box * np.round(d / box)
-            keep &= np.linalg.norm(d, axis=1) >= info["core_radius"]
-        new = np.vstack([new, x[keep]])
-    s.part.add(pos=new[:n_extra], type=[0] * n_extra, v=rng.normal(size=(n_extra, 3)) * np.sqrt(0.1))
+if sample.add_extra_solvent(s, info, box, args.extra_solvent, args.seed) is not None:
     p_all = s.part.all()
     v, m = np.asarray(p_all.v), np.asarray(p_all.mass)
     p_all.v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)

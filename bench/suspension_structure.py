@@ -369,20 +369,8 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
         box = np.asarray(box, float)
         s, info = sample.scene(phi, box, seed=seed, equil=20.0, boundary="stick", solvent_count="exact")
     a = info["core_radius"]
-    n_extra = int(round(extra * info["n_colloids"]))
-    if n_extra > 0:  # as bench/suspension_stick_viscosity.py --extra-solvent
-        r2 = np.random.default_rng([seed, 7])
-        cp = np.mod(np.asarray(s.part.by_ids(info["colloid_ids"]).pos, float), box)
-        new = np.empty((0, 3))
-        while len(new) < n_extra:
-            x = r2.uniform(0, 1, (4 * n_extra, 3)) * box
-            keep = np.ones(len(x), bool)
-            for c in cp:
-                d = x - c
-                d -= box * np.round(d / box)
-                keep &= np.linalg.norm(d, axis=1) >= a
-            new = np.vstack([new, x[keep]])
-        added = s.part.add(pos=new[:n_extra], type=[0] * n_extra, v=r2.normal(size=(n_extra, 3)) * np.sqrt(0.1))
+    added = sample.add_extra_solvent(s, info, box, extra, seed)  # as --extra-solvent
+    if added is not None:
         info = dict(info, solvent_ids=np.concatenate([info["solvent_ids"], np.asarray(added.id)]))
         s.integrator.run(2000)
     V = float(np.prod(box))

@@ -107,6 +107,29 @@ def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw)
     return s, info
 
 
+def add_extra_solvent(s, info, box, per_colloid, seed, kT=KT):
+    """Add round(per_colloid x colloids) solvent beads at random outside the
+    cores (Maxwellian velocities at kT; the stream keyed by [seed, 7]), to
+    restore the bulk density the colloids' adsorbed layers take away
+    (doc/suspensions.md section 7e). Returns the added particles (or None)."""
+    n_extra = int(round(per_colloid * info["n_colloids"]))
+    if n_extra <= 0:
+        return None
+    box = np.asarray(box, float)
+    rng = np.random.default_rng([seed, 7])
+    cp = np.mod(np.asarray(s.part.by_ids(info["colloid_ids"]).pos, float), box)
+    new = np.empty((0, 3))
+    while len(new) < n_extra:
+        x = rng.uniform(0, 1, (4 * n_extra, 3)) * box
+        keep = np.ones(len(x), bool)
+        for c in cp:
+            d = x - c
+            d -= box * np.round(d / box)
+            keep &= np.linalg.norm(d, axis=1) >= info["core_radius"]
+        new = np.vstack([new, x[keep]])
+    return s.part.add(pos=new[:n_extra], type=[0] * n_extra, v=rng.normal(size=(n_extra, 3)) * np.sqrt(kT))
+
+
 def measure(s, g, time, equilibration=None):
     """eta of the scene by the mass-proportional reverse Poiseuille flow (10 blocks,
     margin 1.5): marble.viscosity.reverse_poiseuille's result."""
