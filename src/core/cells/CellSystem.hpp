@@ -226,6 +226,12 @@ public:
     int n_total() const { return ext[0] * ext[1] * ext[2]; }
   };
   std::array<int, 3> const &n_cells() const { return m_n_cells; }
+  /** Candidate-scan code path of the list build: 0 scalar/SSE2, 1 AVX2,
+   * 2 AVX-512; all give the same list, pair for pair. set_scan_path(-1): the
+   * best this CPU runs (the default); a path above that is lowered to it.
+   * For tests and benchmarks (process-wide). */
+  static void set_scan_path(int path);
+  static int scan_path();
   long n_rebuilds() const { return m_n_rebuilds; }
 
 private:
@@ -268,6 +274,7 @@ private:
   std::vector<int> m_scratch_cell, m_scratch_fill, m_scratch_ghost_begin;
   std::vector<double> m_scratch_x, m_scratch_y, m_scratch_z;
   int m_n_local_at_build = 0;
+  bool m_local_cells_ready = false; // m_scratch_cell holds the sorted locals' cells (sort_locals)
   Communicator const *m_comm = nullptr;
   std::vector<char> m_replicated;
   // large-range types: per-type flag, cutoffs (no skin), ranges (with skin)
