@@ -153,3 +153,43 @@ TEST(CellsRebuild, PermuteKeepsUniformAndVaryingArrays) {
     EXPECT_EQ(ps.pos_at_rebuild[k], par_before[static_cast<std::size_t>(order[k])]);
   }
 }
+
+TEST(CellsRebuild, GridCoordAsByDivision) {
+  // Grid::coord multiplies by 1 / size where that cannot change the floor:
+  // it must give floor((x - lo) / size) + 1 (clamped) for every x, faces
+  // and their neighbouring doubles included.
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  struct G {
+    Vector3d lo, len;
+    double range;
+  };
+  G const grids[] = {{{0., 0., 0.}, {20., 20., 20.}, 1.4},
+                     {{10., -3., 0.1}, {10., 7.3, 3.3}, 1.0 / 3.0},
+                     {{0., 0., 0.}, {1e-3, 5e4, 7.}, 1e-5}};
+  long n_checked = 0;
+  for (auto const &gg : grids) {
+    CellSystem::Grid const g(gg.lo, gg.len, gg.range);
+    for (int d = 0; d < 3; ++d) {
+      auto by_division = [&](double x) {
+        double const c = std::floor((x - g.lo[d]) / g.size[d]) + 1.;
+        return static_cast<int>(std::clamp(c, 0., static_cast<double>(g.ext[d] - 1)));
+      };
+      std::vector<double> xs;
+      for (int k = 0; k < 20000; ++k)
+        xs.push_back(g.lo[d] + u(rng) * gg.len[d]);
+      for (int k = -1; k <= g.n[d] + 1; ++k) { // the faces and the doubles around them
+        double x = g.lo[d] + k * g.size[d];
+        for (int s = 0; s < 4; ++s)
+          x = std::nextafter(x, -1e300);
+        for (int s = 0; s < 9; ++s, x = std::nextafter(x, 1e300))
+          xs.push_back(x);
+      }
+      for (double x : xs) {
+        ASSERT_EQ(g.coord(x, d), by_division(x)) << "x = " << x << " axis " << d;
+        ++n_checked;
+      }
+    }
+  }
+  EXPECT_GT(n_checked, 180000);
+}

@@ -206,10 +206,22 @@ public:
   struct Grid {
     std::array<int, 3> n{1, 1, 1}, ext{3, 3, 3};
     Utils::Vector3d size{1., 1., 1.}, lo{0., 0., 0.};
+    Utils::Vector3d inv_size{1., 1., 1.}; // 1 / size (rounded)
     Grid() = default;
     Grid(Utils::Vector3d const &lo, Utils::Vector3d const &len, double range);
+    /** floor((x - lo) / size) + 1, clamped to [0, ext - 1]. The quotient is
+     * first taken as a product with 1 / size, which differs from it by a few
+     * ulps at most: where the product is farther than 1e-9 from an integer
+     * (and below 1e6) both have the same floor; otherwise (and for NaN or
+     * infinities) the division decides. The same cells, one division less. */
     int coord(double x, int d) const {
-      double const c = std::floor((x - lo[d]) / size[d]) + 1.;
+      double const u = x - lo[d];
+      double const t = u * inv_size[d];
+      double f = std::floor(t);
+      double const frac = t - f;
+      if (!(frac > 1e-9 && frac < 1. - 1e-9 && std::abs(t) < 1e6))
+        f = std::floor(u / size[d]);
+      double const c = f + 1.;
       return static_cast<int>(std::clamp(c, 0., static_cast<double>(ext[d] - 1)));
     }
     /** Cell of a local: clamped into the domain's own cells (round-off at the
