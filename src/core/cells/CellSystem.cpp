@@ -277,61 +277,6 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
     }
 }
 
-namespace {
-/** Adds 1 to count[key] for each add(key); a run of equal keys is summed in a
- * register and added once when the key changes (or at destruction). */
-class RunCounter {
-public:
-  explicit RunCounter(int *count) : m_count(count) {}
-  RunCounter(RunCounter const &) = delete;
-  RunCounter &operator=(RunCounter const &) = delete;
-  ~RunCounter() { flush(); }
-  void add(int key) {
-    if (key != m_key) {
-      flush();
-      m_key = key;
-    }
-    ++m_n;
-  }
-
-private:
-  void flush() {
-    if (m_n > 0)
-      m_count[m_key] += m_n;
-    m_n = 0;
-  }
-  int *m_count;
-  int m_key = -1, m_n = 0;
-};
-
-/** slot(key) returns next[key]++ (a counting sort's placement); a run of
- * equal keys advances a register, written back when the key changes (or at
- * destruction). */
-class RunPlacer {
-public:
-  explicit RunPlacer(int *next) : m_next(next) {}
-  RunPlacer(RunPlacer const &) = delete;
-  RunPlacer &operator=(RunPlacer const &) = delete;
-  ~RunPlacer() { flush(); }
-  int slot(int key) {
-    if (key != m_key) {
-      flush();
-      m_key = key;
-      m_pos = m_next[key];
-    }
-    return m_pos++;
-  }
-
-private:
-  void flush() {
-    if (m_key >= 0)
-      m_next[m_key] = m_pos;
-  }
-  int *m_next;
-  int m_key = -1, m_pos = 0;
-};
-} // namespace
-
 void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   int const n = ps.n_local();
   m_local_cells_ready = false;
@@ -344,25 +289,16 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   cell.resize(static_cast<std::size_t>(n));
   count.assign(static_cast<std::size_t>(g.n_total() + 2), 0);
   bool const any_wide = !m_wide.empty();
-  // The locals are nearly sorted already (by the last rebuild): runs of one
-  // cell are counted and placed in registers (RunCounter, RunPlacer) rather
-  // than by increments of one counter in memory, each waiting on the last.
-  {
-    RunCounter cnt(count.data() + 1);
-    for (int i = 0; i < n; ++i) {
-      cell[i] = (any_wide && wide(ps.type[i])) ? g.n_total() : g.local_index(ps.pos[i]);
-      cnt.add(cell[i]);
-    }
+  for (int i = 0; i < n; ++i) {
+    cell[i] = (any_wide && wide(ps.type[i])) ? g.n_total() : g.local_index(ps.pos[i]);
+    ++count[cell[i] + 1];
   }
   for (int c = 0; c <= g.n_total(); ++c)
     count[c + 1] += count[c];
   auto &order = m_scratch_ghost_begin; // free here: build_pairs fills it after the sort
   order.resize(static_cast<std::size_t>(n));
-  {
-    RunPlacer place(count.data());
-    for (int i = 0; i < n; ++i)
-      order[place.slot(cell[i])] = i;
-  }
+  for (int i = 0; i < n; ++i)
+    order[count[cell[i]]++] = i;
   bool sorted = true;
   for (int i = 0; i < n && sorted; ++i)
     sorted = order[i] == i;
@@ -737,20 +673,17 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   auto &members = m_cell_members;
   start.assign(n_cells + 1, 0);
   int n_members = 0;
-  {
-    RunCounter cnt(start.data() + 1); // (sorted locals: runs of one cell)
-    for (int i = 0; i < n_all; ++i) {
-      if (any_wide && wide(ps.type[i])) {
-        cell[i] = -1;
-        if (i < n_local)
-          m_wide_locals.push_back(i);
-        continue;
-      }
-      if (!(locals_ready && i < n_local))
-        cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
-      cnt.add(cell[i]);
-      ++n_members;
+  for (int i = 0; i < n_all; ++i) {
+    if (any_wide && wide(ps.type[i])) {
+      cell[i] = -1;
+      if (i < n_local)
+        m_wide_locals.push_back(i);
+      continue;
     }
+    if (!(locals_ready && i < n_local))
+      cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
+    ++start[cell[i] + 1];
+    ++n_members;
   }
   int const n_small_local = n_local - static_cast<int>(m_wide_locals.size());
   // the AVX-512 scan reads up to 7 slots past a range and stores 8 partners
@@ -762,11 +695,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     start[c + 1] += start[c];
   auto &fill = m_scratch_fill;
   fill.assign(start.begin(), start.end() - 1);
-  {
-    RunPlacer place(fill.data());
-    for (int i = 0; i < n_small_local; ++i)
-      members[place.slot(cell[i])] = i;
-  }
+  for (int i = 0; i < n_small_local; ++i)
+    members[fill[cell[i]]++] = i;
   auto &ghost_begin = m_scratch_ghost_begin; // locals of cell c: [start[c], ghost_begin[c])
   ghost_begin.assign(fill.begin(), fill.end());
   for (int i = n_local; i < n_all; ++i)
