@@ -65,7 +65,8 @@ def worker(case, steps):
     n = len(s.part)
     c0 = time.process_time()
     s.integrator.run(steps)
-    print(json.dumps({"case": case, "rate": n * steps / (time.process_time() - c0)}))
+    print(json.dumps({"case": case, "rate": n * steps / (time.process_time() - c0),
+                      "module": os.path.realpath(marble.__file__)}))
 
 
 def build_ref(ref, where):
@@ -82,9 +83,22 @@ def build_ref(ref, where):
 
 
 def run_case(launcher, case, steps):
+    """Rate of @p case in a fresh process of @p launcher (a build's pymarble).
+
+    The child gets no inherited PYTHONPATH (pymarble appends it to its own, so
+    a build without its Python package would silently import this process's
+    marble), and the module it imported must lie in the launcher's build."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     p = subprocess.run([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)],
-                       capture_output=True, text=True, check=True)
-    return json.loads(p.stdout.strip().splitlines()[-1])["rate"]
+                       capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        raise RuntimeError(f"{launcher} failed on case {case} (exit {p.returncode}):\n{p.stderr[-2000:]}")
+    res = json.loads(p.stdout.strip().splitlines()[-1])
+    build = os.path.realpath(os.path.dirname(launcher))
+    if not res["module"].startswith(build + os.sep):
+        raise RuntimeError(f"{launcher} imported marble from {res['module']}, not from its own build {build}: "
+                           "is its Python package built (make marble_python)?")
+    return res["rate"]
 
 
 def main(argv=None):

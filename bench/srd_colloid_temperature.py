@@ -5,8 +5,16 @@ mass M and the time step dt, for the boundary couplings "pair" (default),
 alpha = 90 deg, tau = 0.1, MBS cell thermostat, stochastic rule; V and Omega
 sampled every 0.25 t0 after 20 t0; error from 20 blocks.
 Writes bench/results/srd_colloid_temperature.json (appends rows).
+With --walls: the same in a walled channel (stochastic SRD walls at rest at
+z = 0 and L); the colloid is kept away from them by two WCA constraint
+walls (epsilon = kT, sigma = 1) placed so that the gap between its surface
+and an SRD wall stays above about --gap (centre at least a + gap from the
+walls, the LJ range crossed only with energies of several kT). --tag labels
+the rows (e.g. the build: run another build's package with
+PYTHONPATH=<its build/src/python> /usr/bin/python3 bench/srd_colloid_temperature.py).
 
     build/pymarble bench/srd_colloid_temperature.py --M 20 70 --dt 0.05 0.0125 --time 800
+    build/pymarble bench/srd_colloid_temperature.py --M 20 --dt 0.05 --time 1600 --walls --gap 1.5
 """
 import argparse
 import json
@@ -28,6 +36,10 @@ p.add_argument("--dt", type=float, nargs="+", default=[0.05, 0.0125])
 p.add_argument("--coupling", nargs="+", default=["pair"])
 p.add_argument("--time", type=float, default=800.0)
 p.add_argument("--seed", type=int, default=11)
+p.add_argument("--walls", action="store_true", help="walled channel along z (stochastic walls at rest)")
+p.add_argument("--gap", type=float, default=1.5,
+               help="with --walls: smallest gap (about) between the colloid surface and an SRD wall")
+p.add_argument("--tag", default="", help="a label stored with the rows (e.g. the build)")
 p.add_argument("--out", default=os.path.join(HERE, "results", "srd_colloid_temperature.json"))
 args = p.parse_args()
 
@@ -39,9 +51,20 @@ for coupling in args.coupling:
             t0 = time.process_time()
             s = marble.System(box_l=[L] * 3, time_step=dt)
             s.cell_system.skin = 0.5
-            s.srd = srd.SRDFluid(types=[0], tau=tau, angle=90, kT=1.0, seed=args.seed, thermostat="mbs")
+            wall_kw = dict(wall_axis=2, wall_rule="stochastic") if args.walls else {}
+            s.srd = srd.SRDFluid(types=[0], tau=tau, angle=90, kT=1.0, seed=args.seed, thermostat="mbs",
+                                 **wall_kw)
             srd.add_fluid(s, density=rho, type=0, kT=1.0, seed=args.seed + 1)
             c = srd.add_colloid(s, pos=[L / 2] * 3, radius=a, mass=M, type=1, coupling=coupling)
+            if args.walls:
+                # WCA walls for the colloid: its centre stays beyond ~0.95 sigma of
+                # the planes at a + gap - 1 and L - (a + gap - 1)
+                from marble.shapes import Wall
+                zc = a + args.gap - 1.0
+                for nrm, dist in (([0, 0, 1], zc), ([0, 0, -1], -(L - zc))):
+                    s.constraints.add(shape=Wall(normal=nrm, dist=dist), particle_type=2)
+                s.non_bonded_inter[2, 1].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2 ** (1 / 6),
+                                                                  shift="auto")
             s.integrator.run(int(round(20.0 / dt)))
             every = max(1, int(round(0.25 / dt)))
             tv = acc.TimeSeries(obs=obs.ParticleVelocities(ids=[c.id], system=s), delta_N=every)
@@ -56,6 +79,7 @@ for coupling in args.coupling:
             ew = block_average((I * W ** 2).mean(axis=1), min_blocks=20)
             kT_f = float(np.mean(s.srd.v.var(axis=0)))
             row = dict(coupling=coupling, M=M, dt=dt, time=args.time, seed=args.seed,
+                       walls=bool(args.walls), gap=args.gap if args.walls else None, tag=args.tag,
                        MV2=ev[0], MV2_err=ev[1], IW2=ew[0], IW2_err=ew[1], kT_fluid=kT_f,
                        cpu_s=time.process_time() - t0)
             rows.append(row)

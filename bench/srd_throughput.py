@@ -20,6 +20,7 @@ bench/results/srd_throughput_ranks.json.
     build/pymarble bench/srd_throughput.py [--sizes 40000 320000] [--rounds 3]
     build/pymarble bench/srd_throughput.py --ranks 1 2 --sizes 320000 --rounds 5
     build/pymarble bench/srd_throughput.py --sizes 320000 --rounds 7 --baseline /tmp/prev/python
+    build/pymarble bench/srd_throughput.py --colloid-cost --sizes 40000 --rounds 7 --baseline /tmp/prev/python
 """
 import argparse
 import json
@@ -49,7 +50,11 @@ p.add_argument("--ranks", type=int, nargs="+", default=None,
 p.add_argument("--baseline", default=None,
                help="directory with another build's marble package: timed in every round as well")
 p.add_argument("--worker", nargs=2, type=float, default=None, help=argparse.SUPPRESS)
-p.add_argument("--cpu-worker", nargs=2, type=float, default=None, help=argparse.SUPPRESS)
+p.add_argument("--cpu-worker", nargs="+", type=float, default=None, help=argparse.SUPPRESS)
+p.add_argument("--colloid-cost", action="store_true",
+               help="only the cost of one colloid per MD step: a run with --colloids of them and a pure run, "
+                    "each its own process, for this build and (with --baseline) the other, interleaved rounds; "
+                    "writes bench/results/srd_colloid_cost.json")
 args = p.parse_args()
 
 
@@ -178,7 +183,58 @@ def baseline_rate(N, steps):
 
 
 if args.cpu_worker:
-    print(f"RATE {marble_rate(int(args.cpu_worker[0]), int(args.cpu_worker[1]))[0]!r}", flush=True)
+    ncol = int(args.cpu_worker[2]) if len(args.cpu_worker) > 2 else 0
+    rate, per_step = marble_rate(int(args.cpu_worker[0]), int(args.cpu_worker[1]), colloids=ncol)
+    print(f"RATE {rate!r} STEP {per_step!r} MODULE {marble.__file__}", flush=True)
+    sys.exit(0)
+
+
+def step_cpu(package, N, steps, colloids):
+    """CPU seconds per MD step of the fluid with `colloids` colloids, in its own
+    process, with the marble package in `package` (None: this build)."""
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    if package:
+        env["PYTHONPATH"] = os.path.abspath(package)
+    cmd = [sys.executable, os.path.abspath(__file__), "--cpu-worker", str(N), str(steps), str(colloids)]
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env,
+                         cwd=os.path.dirname(os.path.abspath(__file__)))
+    m = re.search(r"STEP ([0-9.eE+-]+) MODULE (\S+)", out.stdout)
+    if not m:
+        raise RuntimeError("worker run failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
+    if package and not os.path.abspath(m.group(2)).startswith(os.path.abspath(package)):
+        raise RuntimeError(f"the worker imported {m.group(2)}, not the package in {package}")
+    return float(m.group(1))
+
+
+if args.colloid_cost:
+    builds = [("this", None)] + ([("baseline", args.baseline)] if args.baseline else [])
+    res = dict(machine=machine_info(), setup=f"SRD fluid as below, {args.colloids} stick colloids "
+               "(a = 2, M = 125, stochastic, pair coupling) on a cubic lattice against none, tau = dt = 0.1; "
+               "extra CPU per MD step / number of colloids, each run its own process, interleaved rounds",
+               baseline=args.baseline, sizes=[])
+    for N in args.sizes:
+        N = int(N)
+        steps = max(5, int(args.work / N))
+        per = {name: [] for name, _ in builds}
+        for r in range(args.rounds):
+            for name, pkg in builds:
+                t_pure = step_cpu(pkg, N, steps, 0)
+                t_col = step_cpu(pkg, N, steps, args.colloids)
+                per[name].append((t_col - t_pure) / args.colloids)
+            print(f"N = {N} round {r}: " + ", ".join(f"{name} {1e3 * per[name][-1]:.4f}" for name in per)
+                  + " ms per colloid and step", flush=True)
+        row = dict(N=N, steps=steps, n_colloids=args.colloids,
+                   **{f"{name}_ms": 1e3 * float(np.median(v)) for name, v in per.items()},
+                   **{f"{name}_all_ms": [1e3 * x for x in v] for name, v in per.items()})
+        if args.baseline:
+            row["ratio_median_of_rounds"] = float(np.median(np.array(per["this"]) / np.array(per["baseline"])))
+        res["sizes"].append(row)
+        print(f"N = {N}: " + ", ".join(f"{name} {row[name + '_ms']:.4f} ms" for name in per)
+              + (f", this/baseline x{row['ratio_median_of_rounds']:.2f} (median of rounds)" if args.baseline else ""),
+              flush=True)
+    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+    with open(os.path.join(HERE, "results", "srd_colloid_cost.json"), "w") as f:
+        json.dump(res, f, indent=1)
     sys.exit(0)
 
 if args.worker:

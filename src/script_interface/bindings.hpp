@@ -19,4 +19,5 @@ void bind_analysis(py::class_<Marble::System> &cls);      // analysis.cpp
 void bind_accumulators(py::module_ &m, py::class_<Marble::System> &cls); // accumulators.cpp
 void bind_io(py::module_ &m, py::class_<Marble::System> &cls);           // io.cpp
 void bind_srd(py::class_<Marble::System> &cls);           // srd.cpp
+void bind_lees_edwards(py::class_<Marble::System> &cls);  // lees_edwards.cpp
 } // namespace ScriptInterface

@@ -72,4 +72,5 @@ PYBIND11_MODULE(_marble, m) {
   ScriptInterface::bind_accumulators(m, cls);
   ScriptInterface::bind_io(m, cls);
   ScriptInterface::bind_srd(cls);
+  ScriptInterface::bind_lees_edwards(cls);
 }

@@ -327,7 +327,7 @@ void bind_particle_data(py::class_<System> &cls) {
         Utils::Vector3i img = ps.image[i];
         s.box().fold(p, img);
         put({double(img[0]), double(img[1]), double(img[2])});
-      } else if (name == "v") put(ps.v[i]);
+      } else if (name == "v") put(s.folded_velocity(i)); // Lees-Edwards: frame of pos_folded
       else if (name == "f") put(ps.f[i]);
       else if (name == "mass") row[0] = ps.get_mass(i);
       else if (name == "gamma") row[0] = ps.gamma[i];
@@ -397,7 +397,13 @@ void bind_particle_data(py::class_<System> &cls) {
         s.box().fold(x, img);
         ps.pos[i] = x;
         ps.image[i] = img;
-      } else if (name == "v") ps.v[i] = p.v;
+      } else if (name == "v") {
+        ps.v[i] = p.v;
+        // Lees-Edwards: p.v is in the frame of the folded position; the
+        // next fold applies the jump of a pending shear-plane crossing
+        if (s.box().lees_edwards().active())
+          ps.v[i] += p.v - s.folded_velocity(i);
+      }
       else if (name == "gamma") ps.gamma[i] = p.gamma;
       else if (name == "gamma_rot") ps.gamma_rot[i] = p.gamma_rot;
 #ifdef MASS

@@ -408,6 +408,20 @@ def scene_srd_walls(collisions=100):
     return s, out
 
 
+def scene_srd_walls_colloid(collisions=100):
+    """A stochastic stick colloid (pair coupling) 0.7 from the lower of two
+    stochastic walls (z = 0, 8; split in z on 2 ranks), driven along x: the
+    wall bounces of the colloid's candidates are events of its sequence."""
+    import marble.srd as srd
+    L = 8.0
+    s = _srd_box(L, angle=130.0, wall_axis=2, wall_rule="stochastic", wall_velocity_hi=[0.2, 0, 0])
+    col = srd.add_colloid(s, pos=[L / 2 - 0.3, L / 2, 2.2], radius=1.5, mass=30.0, type=1,
+                          rule="stochastic", v=(0.3, 0.2, 0.0))
+    col.ext_force = [6.0, 0.0, 0.0]
+    s.integrator.run(2 * collisions)
+    return s, _srd_state(s, col)
+
+
 def scene_srd_ckpt_reference():
     """SRD + colloid: checkpoint after 60 collisions, then 60 more."""
     import marble.checkpointing

@@ -10,7 +10,8 @@ sequence of colloid bounces, and each rank sorts only its local cell grid.
 Also: a pure fluid drifting across the domains (the particles leaving a
 domain are listed by the streaming step and migrated at the collision), the
 Andersen rule with angular-momentum conservation, the
-cell thermostat, stochastic Couette walls split across ranks, checkpoints
+cell thermostat, stochastic Couette walls split across ranks, a colloid next
+to a wall (bounce events with wall bounces), checkpoints
 restored on another rank count, and H5MD output written by 2 ranks. Each scene runs in its own `mpiexec`
 (testsuite/python/mpi_scenes.py)."""
 import os
@@ -116,6 +117,20 @@ def test_couette_walls_same_trajectory():
     assert_same(one, two)
     np.testing.assert_array_equal(two["to_walls"], one["to_walls"])
     assert np.abs(one["to_walls"]).max() > 1.0
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_walled_channel_colloid_same_trajectory(ranks):
+    """Colloid next to a wall (bounce events with wall bounces, doc/srd.md
+    "Channel walls"): the same bits on 1, 2 (split across the walls' axis)
+    and 3 ranks (the momentum handed to the walls, summed in storage order on
+    each rank, to round-off)."""
+    one, many = run("srd_walls_colloid", 1), run("srd_walls_colloid", ranks)
+    assert_same(one, many)
+    for key in ("cpos", "cv", "comega", "to_colloids"):
+        np.testing.assert_array_equal(many[key], one[key], err_msg=key)
+    np.testing.assert_allclose(many["to_walls"], one["to_walls"], rtol=1e-13, atol=0)
+    assert np.abs(one["to_colloids"]).max() > 1.0
 
 
 @pytest.mark.parametrize("n1,n2", [(1, 2), (2, 1), (2, 2)])

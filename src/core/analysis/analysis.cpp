@@ -21,7 +21,7 @@ Energies System::energies() {
   int const nt = std::max(1, m_ia.n_types());
   e.non_bonded_pairs.assign(static_cast<std::size_t>(nt) * nt, 0.);
   for (int i = 0; i < m_ps.n_local(); ++i) {
-    e.kinetic += 0.5 * m_ps.get_mass(i) * m_ps.v[i].norm2();
+    e.kinetic += 0.5 * m_ps.get_mass(i) * folded_velocity(i).norm2(); // Lees-Edwards: frame of the folded position
 #ifdef ROTATION
     if (m_ps.rotation[i])
       e.kinetic_rot += 0.5 * m_ps.rinertia[i] * m_ps.omega[i].norm2();
@@ -62,9 +62,10 @@ PressureTensor System::pressure_tensor() {
   double const V = m_box.volume();
   for (int i = 0; i < m_ps.n_local(); ++i) {
     double const m = m_ps.get_mass(i);
+    Vector3d const v = folded_velocity(i); // Lees-Edwards: frame of the folded position
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
-        p.kinetic[3 * a + b] += m * m_ps.v[i][a] * m_ps.v[i][b] / V;
+        p.kinetic[3 * a + b] += m * v[a] * v[b] / V;
   }
   for_each_pair(m_ps, m_cells.pairs(), m_ia, [&](int i, int j) {
     Vector3d const d = m_ps.pos[i] - m_ps.pos[j];

@@ -56,7 +56,7 @@ Utils::Vector3d ParticlePositions::row(System const &system, int i) const {
 }
 
 Utils::Vector3d ParticleVelocities::row(System const &system, int i) const {
-  return system.particles().v[i];
+  return system.folded_velocity(i); // Lees-Edwards: frame of the folded position
 }
 
 ParticleAngularVelocities::ParticleAngularVelocities(System const &system, std::vector<int> ids)

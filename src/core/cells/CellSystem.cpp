@@ -325,8 +325,14 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   m_send.assign(static_cast<std::size_t>(size), {});
   m_recv_begin.assign(static_cast<std::size_t>(size), ps.n_local());
   m_recv_count.assign(static_cast<std::size_t>(size), 0);
+  m_le_images = false;
+  m_le_k.clear();
   if (m_range <= 0.)
     return;
+  if (m_le.active()) {
+    make_le_ghosts(ps, box);
+    return;
+  }
   bool const par = size > 1;
   int const n = ps.n_local();
   auto const &L = box.length();
@@ -481,6 +487,98 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
     }
   }
+}
+
+// Lees-Edwards images (one rank, no marble colloids; System refuses the rest).
+// The image of local i with integer shift (m_x, m_y, m_z) lies at
+//   p + sum_d m_d L_d e_d + m_n * offset e_s     (n: normal, s: shear direction),
+// moves with v + m_n * shear_velocity e_s, and is made if it lies within the
+// range of the box on every axis. As for periodic images only the shifts
+// whose integer tuple is lexicographically positive are made: the image of j
+// seen from i and the image of i seen from j have opposite tuples (the offset
+// term is linear in m_n), so each pair is listed once. The tuple along s is
+// chosen at the build with the offset of the build (wrapped into [0, L_s));
+// between builds update_ghosts moves the images by m_n * (offset - offset at
+// build), and the list check counts that drift (le_half_skin_budget).
+// Large-range particles get images of every non-zero shift within their
+// range, as in make_ghosts (build_wide_pairs lists their pairs).
+void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
+  bool const any_wide = !m_wide.empty();
+  double const r_wide = std::max(m_range_ll, m_range_ls);
+  double const r_max = std::max(m_range, r_wide);
+  int const dn = m_le.shear_plane_normal, ds = m_le.shear_direction, dt = 3 - dn - ds;
+  auto const &L = box.length();
+  if (parallel() || std::any_of(m_replicated.begin(), m_replicated.end(), [](char c) { return c != 0; }))
+    throw Utils::RuntimeError(
+        "cannot build the pair lists with Lees-Edwards boundary conditions: they run on one MPI rank "
+        "and without marble colloids (doc/lees-edwards.md)");
+  // build_wide_pairs keeps a large-large image pair by the sign of its shift
+  // vector, which is the sign of the integer tuple for |m_n| <= 1
+  if (any_wide && r_max > L[dn])
+    throw Utils::RuntimeError(
+        "cannot build the pair lists with Lees-Edwards boundary conditions: the large-range "
+        "interaction range " + std::to_string(r_max) + " exceeds the box length along the shear-plane "
+        "normal (" + std::to_string(L[dn]) + "): enlarge the box or set "
+        "system.cell_system.large_range_types = None");
+  int const n = ps.n_local();
+  double const off = box.le_offset_wrapped();
+  m_le_offset_at_build = m_le.pos_offset;
+  m_le_images = true;
+  int const nimg_n = static_cast<int>(std::ceil(r_max / L[dn]));
+  int const nimg_t = box.periodic(dt) ? static_cast<int>(std::ceil(r_max / L[dt])) : 0;
+  for (int i = 0; i < n; ++i) {
+    Vector3d const p = ps.pos[i];
+    bool const w = any_wide && wide(ps.type[i]);
+    double const r = w ? r_wide : m_range;
+    // farther than the range (plus a margin) from every face: no image within range
+    bool interior = true;
+    for (int d = 0; d < 3 && interior; ++d)
+      if (box.periodic(d)) {
+        double const margin = 1e-9 * (L[d] + r);
+        interior = p[d] >= r + margin && p[d] < L[d] - r - margin;
+      }
+    if (interior)
+      continue;
+    auto outside = [&](double q, int d) { return q < -r || q >= L[d] + r; };
+    for (int k = -nimg_n; k <= nimg_n; ++k) {
+      if (k != 0 && outside(p[dn] + k * L[dn], dn))
+        continue;
+      double const base = p[ds] + k * off; // along s before the box shifts
+      int const m_lo = static_cast<int>(std::floor((-r - base) / L[ds])) - 1;
+      int const m_hi = static_cast<int>(std::ceil((L[ds] + r - base) / L[ds])) + 1;
+      for (int m = m_lo; m <= m_hi; ++m) {
+        if ((k != 0 || m != 0) && outside(base + m * L[ds], ds))
+          continue;
+        for (int l = -nimg_t; l <= nimg_t; ++l) {
+          if (l != 0 && outside(p[dt] + l * L[dt], dt))
+            continue;
+          std::array<int, 3> t{};
+          t[dn] = k, t[ds] = m, t[dt] = l;
+          if (k == 0 && m == 0 && l == 0)
+            continue;
+          // small particles: positive tuples only (half shell); large-range
+          // particles: every shift (their pairs with small ones are listed
+          // from the large side, build_wide_pairs)
+          bool positive = false;
+          for (int d = 0; d < 3; ++d)
+            if (t[d] != 0) {
+              positive = t[d] > 0;
+              break;
+            }
+          if (!w && !positive)
+            continue;
+          Vector3d sh{0., 0., 0.};
+          sh[dn] = k * L[dn];
+          sh[ds] = k * off + m * L[ds];
+          sh[dt] = l * L[dt];
+          ps.add_ghost(i, sh);
+          ps.v.back()[ds] += k * m_le.shear_velocity;
+          m_le_k.push_back(k);
+        }
+      }
+    }
+  }
+  m_send_index.assign(1, {});
 }
 
 namespace {
@@ -996,7 +1094,8 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
           std::to_string(d) + ": reduce the cutoff or enlarge the box");
   ps.clear_ghosts();
   m_range = range;
-  {
+  m_le = box.lees_edwards();
+  if (!m_le.active()) {
     // a coordinate in [0, 0.9999999 L) is left as it is by fold (its
     // floor(x / L) is 0): fold only the particles with some other coordinate
     // along a periodic axis (no division for the others; the same result)
@@ -1010,6 +1109,15 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
       Vector3d const &x = ps.pos[i];
       if (!(x[0] >= lo[0] && x[0] < hi[0] && x[1] >= lo[1] && x[1] < hi[1] && x[2] >= lo[2] && x[2] < hi[2]))
         box.fold(ps.pos[i], ps.image[i]);
+    }
+  } else {
+    // Lees-Edwards: a particle crossing the shear plane k times upwards gets
+    // its velocity along the shear direction shifted by -k * shear_velocity
+    // (its position by -k * offset: BoxGeometry::fold)
+    for (int i = 0; i < ps.n_local(); ++i) {
+      int const k = box.fold(ps.pos[i], ps.image[i]);
+      if (k != 0)
+        ps.v[i][m_le.shear_direction] -= k * m_le.shear_velocity;
     }
   }
   if (parallel()) {
@@ -1107,6 +1215,23 @@ void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
 }
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {
+  if (m_le_images) { // Lees-Edwards images (one rank): moved with the offset, velocity jump
+    int const ds = m_le.shear_direction, nl = ps.n_local();
+    double const doff = m_le.pos_offset - m_le_offset_at_build, vs = m_le.shear_velocity;
+    for_each_own_image(ps, [&](int g, int o) {
+      int const k = m_le_k[static_cast<std::size_t>(g - nl)];
+      ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - nl];
+      ps.v[g] = ps.v[o];
+      if (k != 0) {
+        ps.pos[g][ds] += k * doff;
+        ps.v[g][ds] += k * vs;
+      }
+#ifdef ROTATION
+      ps.omega[g] = ps.omega[o];
+#endif
+    });
+    return;
+  }
   for_each_own_image(ps, [&](int g, int o) {
     ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - ps.n_local()];
     ps.v[g] = ps.v[o];
@@ -1176,7 +1301,13 @@ void CellSystem::reduce_ghost_values(ParticleStore const &ps, std::vector<Vector
 }
 
 bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {
-  double const lim2 = 0.25 * m_skin * m_skin;
+  double lim2 = 0.25 * m_skin * m_skin;
+  if (m_le_images) { // Lees-Edwards: the images moved with the offset since the build
+    double const b = le_half_skin_budget(m_le.pos_offset);
+    if (!(b > 0.))
+      return true; // one rank only
+    lim2 = b * b;
+  }
   bool exceeded = false;
   for (int i = 0; i < ps.n_local(); ++i)
     if ((ps.pos[i] - ps.pos_at_rebuild[i]).norm2() > lim2) {

@@ -132,8 +132,21 @@ public:
   /** Add the ghosts' entries of @p x to their owners' (the reverse of
    * fill_ghost_values). Collective. */
   void reduce_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
-  /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective. */
+  /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective.
+   * With Lees-Edwards: more than (skin - |offset change since the build|) / 2. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
+
+  // --- Lees-Edwards (box/LeesEdwards.hpp; one rank, no marble colloids) ---
+  /** The current Lees-Edwards state (offset, shear velocity) for the ghost
+   * updates; rebuild() takes it from the box. */
+  void set_lees_edwards(LeesEdwardsBC const &le) { m_le = le; }
+  /** |offset - offset at the last build| (0 without Lees-Edwards images):
+   * how far the images across the shear plane moved since the list build. */
+  double le_drift(double pos_offset) const {
+    return m_le_images ? std::abs(pos_offset - m_le_offset_at_build) : 0.;
+  }
+  /** The displacement limit of the list check: skin/2 less half the image drift (< 0: rebuild). */
+  double le_half_skin_budget(double pos_offset) const { return 0.5 * (m_skin - le_drift(pos_offset)); }
 
   // --- domain decomposition ---
   void set_comm(Communicator const *comm) { m_comm = comm; }
@@ -252,6 +265,7 @@ private:
     Utils::Vector3d shift;
   };
   void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
+  void make_le_ghosts(ParticleStore &ps, BoxGeometry const &box);
   bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const;
   template <typename F> void for_each_own_image(ParticleStore const &ps, F &&fn) const;
   template <typename T, typename NOut, typename NIn, typename Fill, typename Consume>
@@ -307,6 +321,12 @@ private:
   // neighbour-exchange buffers by rank, kept and only grown (no refill per step)
   mutable std::vector<std::vector<std::max_align_t>> m_xsend, m_xrecv;
   mutable std::vector<Communicator::Block> m_xblocks[2];
+  // Lees-Edwards: current state, the offset at the last build, and for each
+  // own image (ghost g: m_le_k[g - n_local]) its shift k along the normal
+  LeesEdwardsBC m_le;
+  double m_le_offset_at_build = 0.;
+  bool m_le_images = false;
+  std::vector<int> m_le_k;
 };
 
 } // namespace Marble

@@ -86,9 +86,16 @@ void System::drift_checked(bool kick_first) {
   double bad_disp2 = 0.;
   // the list's displacement test (CellSystem::displacement_exceeds_half_skin)
   // on the new positions x + dx, voted on with the step check below
-  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
+  double lim2 = 0.25 * m_cells.skin() * m_cells.skin();
   auto const *const x0 = m_ps.pos_at_rebuild.data();
   bool moved = false;
+  if (m_box.lees_edwards().active()) {
+    // Lees-Edwards: the images across the shear plane will have moved by the
+    // offset change since the build: the particles get the rest of the skin
+    double const b = m_cells.le_half_skin_budget(m_le_protocol.pos_offset(m_time + dt));
+    moved = !(b > 0.);
+    lim2 = b * b;
+  }
   if (kick_first) {
     for (int i = 0; i < n; ++i) {
       am[i] = kick_particle(m_ps, i, half_dt);
@@ -216,6 +223,8 @@ int System::run(int n_steps, bool recalc_forces) {
     m_forces_valid = false;
   if (m_integrator == IntegratorKind::BrownianDynamics)
     return run_bd(n_steps);
+  if (m_le_protocol.kind != LeesEdwardsProtocol::Off)
+    update_lees_edwards();
   if (n_steps > 0)
     check_stability_before_run(*this);
 #ifdef SRD
@@ -259,6 +268,8 @@ int System::run_md(int n_steps) {
     kick_pending = false;
     ++m_step;
     m_time += m_time_step;
+    if (m_le_protocol.kind != LeesEdwardsProtocol::Off)
+      update_lees_edwards(); // the offset of the new time (ghosts: ensure_lists)
 #ifdef SRD
     m_displacement_hint = srd ? -1 : m_displacement_hint; // SRD may move the colloids
     if (srd) // SRD: stream (impulses to the colloids) and collide when due

@@ -246,6 +246,10 @@ struct CheckpointAccess {
     // -1 auto (also for blobs of format version 3, which lack it), 0 off, 1 the flagged types
     std::int32_t large_range_mode = -1;
     std::vector<char> large_range_types;
+    // Lees-Edwards (an optional tail of the global block, written only when
+    // it is on: blobs without it are unchanged)
+    LeesEdwardsProtocol le;
+    std::int32_t le_direction = -1, le_normal = -1;
   };
 
   static void write_global(Out &o, System const &s) {
@@ -274,6 +278,14 @@ struct CheckpointAccess {
     o.pod(static_cast<std::int32_t>(s.m_constraints.m_next_id));
     o.pod(static_cast<std::int32_t>(s.m_large_range_mode)); // format version 4
     o.vec(s.m_large_range_types);
+    if (s.m_le_protocol.kind != LeesEdwardsProtocol::Off) { // Lees-Edwards tail
+      auto const &p = s.m_le_protocol;
+      o.pod(static_cast<std::int32_t>(p.kind));
+      o.pod(static_cast<std::int32_t>(s.m_le_direction));
+      o.pod(static_cast<std::int32_t>(s.m_le_normal));
+      for (double x : {p.initial_pos_offset, p.shear_velocity, p.amplitude, p.omega, p.time_0})
+        o.pod(x);
+    }
   }
 
   static Global read_global(In &in, std::uint32_t version) {
@@ -306,6 +318,20 @@ struct CheckpointAccess {
       if (g.large_range_mode < -1 || g.large_range_mode > 1 ||
           g.large_range_types.size() > static_cast<std::size_t>(InteractionTable::max_type))
         corrupt("bad large-range types of the cell system");
+    }
+    if (!in.done()) { // the Lees-Edwards tail
+      g.le.kind = in.pod<std::int32_t>();
+      g.le_direction = in.pod<std::int32_t>();
+      g.le_normal = in.pod<std::int32_t>();
+      g.le.initial_pos_offset = in.pod<double>();
+      g.le.shear_velocity = in.pod<double>();
+      g.le.amplitude = in.pod<double>();
+      g.le.omega = in.pod<double>();
+      g.le.time_0 = in.pod<double>();
+      if (g.le.kind < LeesEdwardsProtocol::Linear || g.le.kind > LeesEdwardsProtocol::Oscillatory ||
+          g.le_direction < 0 || g.le_direction > 2 || g.le_normal < 0 || g.le_normal > 2 ||
+          g.le_direction == g.le_normal)
+        corrupt("bad Lees-Edwards state");
     }
     auto square = [](std::int32_t n) { return static_cast<std::size_t>(n) * static_cast<std::size_t>(n); };
     if (g.n_types < 0 || g.n_types > InteractionTable::max_type || g.ia.size() != square(g.n_types) ||
@@ -520,6 +546,10 @@ struct CheckpointAccess {
     s.m_time_step = g.time_step;
     s.m_time = g.time;
     s.m_step = g.step;
+    s.m_le_protocol = g.le;
+    s.m_le_direction = g.le_direction;
+    s.m_le_normal = g.le_normal;
+    s.update_lees_edwards();
     s.m_integrator = static_cast<IntegratorKind>(g.integrator);
     s.m_sd = g.sd;
     s.m_dpd_in_pair_loop = g.dpd_in_pair_loop != 0;

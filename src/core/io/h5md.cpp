@@ -642,7 +642,8 @@ void H5mdFile::write_frame(System const &system) {
             ibuf.push_back(img[d]);
         }
       } else if (s.name == "velocity" || s.name == "force") {
-        auto const &x = s.name == "velocity" ? ps.v[i] : ps.f[i];
+        // velocity: Lees-Edwards frame of the folded position (ps.v otherwise)
+        Utils::Vector3d const x = s.name == "velocity" ? system.folded_velocity(i) : ps.f[i];
         for (int d = 0; d < 3; ++d)
           dbuf.push_back(x[d]);
       } else if (s.name == "species") {

@@ -386,9 +386,85 @@ std::uint64_t key1(int k) { return key0(k) + 1u; }
 struct Cand {
   int pid, j, rank, index, type;
   Vector3d d0, v;
+  double za; // x_i(0) along the wall axis (walled channels)
 };
 static_assert(std::is_trivially_copyable_v<Cand>);
 constexpr int kMaxEventBounces = 8; // per particle and step (then the end-of-step check)
+
+// Channel walls (planes x[a] = z0, z1, fixed-surface rules in the frame of
+// the moving wall; doc/srd.md "Channel walls").
+struct WallGeom {
+  int a;
+  double z0, z1, sig, m;
+  BoundaryRule rule;
+  Vector3d v_lo, v_hi;
+  std::uint64_t seed;
+};
+// The new velocity of a particle with velocity v0 hitting the lower (lo) or
+// upper wall in its bounce-th wall bounce of the step (noise keyed by
+// (seed, step, pid, 2 + bounce / 8 + bounce)).
+Vector3d wall_rule(WallGeom const &g, std::uint64_t step, std::uint64_t pid, int bounce, bool lo,
+                   Vector3d const &v0) {
+  int const a = g.a;
+  Vector3d nrm{};
+  nrm[a] = lo ? 1. : -1.; // into the fluid
+  Vector3d const vw = lo ? g.v_lo : g.v_hi;
+  Vector3d vn;
+  Vector3d const vr = v0 - vw;
+  double const vrn = vr * nrm;
+  if (g.rule == BoundaryRule::stochastic) {
+    auto const gs = gauss4(g.seed, Utils::RNGSalt::srd_wall, step, pid, 2 + bounce);
+    auto const u = Utils::philox_4x64(g.seed, Utils::RNGSalt::srd_wall, step, pid, 8 + bounce);
+    vn = vw + (g.sig * std::sqrt(-2. * std::log(unit_open0(u[0])))) * nrm;
+    int const t1 = (a + 1) % 3, t2 = (a + 2) % 3;
+    vn[t1] += g.sig * gs[0];
+    vn[t2] += g.sig * gs[1];
+  } else if (g.rule == BoundaryRule::bounce_back || g.rule == BoundaryRule::rough) {
+    vn = 2. * vw - v0;
+  } else { // slip
+    vn = v0 - (2. * vrn) * nrm;
+  }
+  return vn;
+}
+constexpr int kMaxWallBounces = 4; // per particle and step
+// Streams one particle by dt between the walls (x, v updated, the momentum
+// handed to each wall added, vmax raised by the new speeds); on_bounce(t, x,
+// v') is called after each wall bounce (t: time within the step).
+template <class OnBounce>
+void wall_flight(WallGeom const &g, std::uint64_t step, std::uint64_t pid, double dt, Vector3d &x, Vector3d &v,
+                 Vector3d &to_lo, Vector3d &to_hi, double &vmax, OnBounce &&on_bounce) {
+  int const a = g.a;
+  double const z0 = g.z0, z1 = g.z1;
+  double t_left = dt;
+  for (int bounce = 0; bounce < kMaxWallBounces; ++bounce) {
+    double const z = x[a] + t_left * v[a];
+    if (z >= z0 && z < z1)
+      break;
+    bool const lo = z < z0;
+    double const tc = std::clamp(((lo ? z0 : z1) - x[a]) / v[a], 0., t_left);
+    x += tc * v;
+    x[a] = lo ? z0 : std::nextafter(z1, z0);
+    t_left -= tc;
+    Vector3d const vn = wall_rule(g, step, pid, bounce, lo, v);
+    (lo ? to_lo : to_hi) += g.m * (v - vn);
+    v = vn;
+    vmax = std::max(vmax, vn.norm()); // the colloid search's displacement bound
+    on_bounce(dt - t_left, x, v);
+  }
+  x += t_left * v;
+  if (x[a] < z0 || x[a] >= z1) // pathological: still outside
+    x[a] = std::clamp(x[a], z0, std::nextafter(z1, z0));
+}
+// A particle's flight between the walls within one step without colloids:
+// segments (start time, position, velocity; positions not folded), its end
+// state and the momentum it hands to the walls.
+struct WallPath {
+  int i, nseg;
+  std::array<double, kMaxWallBounces + 1> t;
+  std::array<Vector3d, kMaxWallBounces + 1> x, v;
+  Vector3d x_end, v_end, to_lo, to_hi;
+  bool used; // its end state and momenta are taken (no colloid bounce)
+};
 } // namespace
 
 void Fluid::stream(System &s, double dt) {
@@ -408,11 +484,49 @@ void Fluid::stream(System &s, double dt) {
       v[i] += dt * drive.accel;
     m_vmax += drive.accel.norm() * dt;
   }
-  if (m_p.wall_axis >= 0)
-    walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
-  m_disp += m_vmax * dt;    // bound on the displacement since the last collision
   auto cols = colloids_of(s, *this);
-  double const dt_free = m_p.wall_axis >= 0 ? 0. : dt; // walls() streamed already
+  // Walled channel with colloids of the pair coupling: the wall bounces are
+  // events of the event search (1.) too. Every particle's flight between the
+  // walls is computed here (the particles that hit a wall, with their path,
+  // in wpath), but the particles stay at their positions of the start of the
+  // step; those without a colloid bounce take the end state of that flight.
+  bool wall_events = false;
+  if (m_p.wall_axis >= 0) {
+    int const nt0 = std::min(max_type, s.interactions().n_types());
+    for (auto const &c : cols)
+      for (int t = 0; t < nt0 && !wall_events; ++t) {
+        auto const b = boundary(c.type, t);
+        wall_events = b.active && b.coupling == Coupling::pair && b.radius > 0.;
+      }
+  }
+  std::vector<WallPath> wpath;
+  WallGeom wg{};
+  if (wall_events) {
+    int const a = m_p.wall_axis;
+    wg = WallGeom{a, wall_lo(), wall_hi(L[a]), std::sqrt(m_p.kT / m_p.mass), m_p.mass,
+                  static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
+    if (static_cast<int>(m_wslot.size()) != n)
+      m_wslot.assign(static_cast<std::size_t>(n), -1);
+    for (int i = 0; i < n; ++i) {
+      double const z = pos[i][a] + dt * v[i][a]; // wall_flight's first test
+      if (z >= wg.z0 && z < wg.z1)
+        continue;
+      WallPath w;
+      w.i = i, w.nseg = 1, w.t[0] = 0., w.x[0] = pos[i], w.v[0] = v[i];
+      w.x_end = pos[i], w.v_end = v[i], w.to_lo = Vector3d{}, w.to_hi = Vector3d{}, w.used = true;
+      wall_flight(wg, s.step(), static_cast<std::uint64_t>(id[i]), dt, w.x_end, w.v_end, w.to_lo, w.to_hi,
+                  m_vmax, [&w](double t, Vector3d const &x, Vector3d const &vv) {
+                    w.t[w.nseg] = t, w.x[w.nseg] = x, w.v[w.nseg] = vv;
+                    ++w.nseg;
+                  });
+      m_wslot[i] = static_cast<int>(wpath.size());
+      wpath.push_back(w);
+    }
+  } else if (m_p.wall_axis >= 0) {
+    walls(s.step(), dt, L); // streams every particle by dt, reflecting at the walls
+  }
+  m_disp += m_vmax * dt;    // bound on the displacement since the last collision
+  double const dt_free = m_p.wall_axis >= 0 && !wall_events ? 0. : dt; // walls() streamed already
   if (cols.empty()) {
     // on several ranks, before a collision: list the particles that leave
     // this rank's domain (for the migration; no pass of its own)
@@ -476,8 +590,7 @@ void Fluid::stream(System &s, double dt) {
   // bounces of this step per particle (pid, count; ascending pid), for the noise counters
   std::vector<std::pair<int, int>> n_bounces;
 
-  // 1. Event-ordered bounces (coupling pair; not with walls, whose particles
-  // streamed already). The colloid moved in the MD drift from
+  // 1. Event-ordered bounces (coupling pair). The colloid moved in the MD drift from
   // R0 = R - V dt with its velocity V; the SRD particles are still at their
   // positions x(0) of the start of the step. Every (particle, colloid) pair
   // whose relative straight path within the step comes closer than
@@ -492,10 +605,14 @@ void Fluid::stream(System &s, double dt) {
   // by sum_k dV_k (dt - t_k)). A particle the colloid's velocity change
   // brings into reach that was no candidate (the margin is 0.1 a0) is caught
   // by the end-of-step check (2.), which applies the rule of the previous
-  // versions.
+  // versions. In a walled channel a particle's path within the step is
+  // broken at the walls: the candidate test follows its flight between the
+  // walls (wpath), and its wall bounces are events of the same sequence (at
+  // the time its straight path reaches a plane; the wall rule with the noise
+  // of its k-th wall bounce, as in walls()).
   std::vector<Vector3d> dR(cols.size());
   std::vector<std::pair<int, std::array<Vector3d, 2>>> moved; // this rank's bounced particles
-  bool events = m_p.wall_axis < 0;
+  bool events = true;
   if (events) {
     bool any = false;
     for (double r : r_pair)
@@ -518,17 +635,46 @@ void Fluid::stream(System &s, double dt) {
       fold(R0[j], L);
     }
     std::vector<Cand> cand;
-    auto consider = [&](int i, std::size_t j) {
+    // quick rejection in the indexed search: a particle that is not loose
+    // moves no faster than m_vmax in this step (walls and drive included), so
+    // one farther than radius + margin + (m_vmax + |V|) dt from R0 cannot
+    // come within radius + margin (the slack 1e-9 keeps the exact test's
+    // round-off out of it: the same candidates)
+    std::vector<double> reach2(cols.size(), 0.);
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      double const reach = (r_pair[j] + margin + (m_vmax + cols[j].V.norm()) * dt) * (1. + 1e-9);
+      reach2[j] = reach * reach;
+    }
+    auto consider = [&](int i, std::size_t j, bool quick) {
+      Vector3d const d0 = mi_folded(pos[i], R0[j], L);
+      if (quick && d0.norm2() > reach2[j])
+        return;
       auto const &b = bnd(cols[j].type, type[i]);
       if (!b.active || b.coupling != Coupling::pair)
         return;
-      Vector3d const d0 = mi_folded(pos[i], R0[j], L);
-      Vector3d const w = v[i] - cols[j].V;
-      double const w2 = w.norm2();
-      double const t = w2 > 0. ? std::clamp(-(d0 * w) / w2, 0., dt) : 0.;
       double const rr = b.radius + margin;
-      if ((d0 + t * w).norm2() < rr * rr)
-        cand.push_back({id[i], static_cast<int>(j), me, i, type[i], d0, v[i]});
+      int const ws = wall_events ? m_wslot[i] : -1;
+      if (ws < 0) {
+        Vector3d const w = v[i] - cols[j].V;
+        double const w2 = w.norm2();
+        double const t = w2 > 0. ? std::clamp(-(d0 * w) / w2, 0., dt) : 0.;
+        if ((d0 + t * w).norm2() < rr * rr)
+          cand.push_back({id[i], static_cast<int>(j), me, i, type[i], d0, v[i], wall_events ? pos[i][wg.a] : 0.});
+        return;
+      }
+      // a particle that hits a wall: every straight piece of its flight
+      auto const &wp = wpath[static_cast<std::size_t>(ws)];
+      for (int sg = 0; sg < wp.nseg; ++sg) {
+        double const ta = wp.t[sg], tb = sg + 1 < wp.nseg ? wp.t[sg + 1] : dt;
+        Vector3d const ds = d0 + (wp.x[sg] - wp.x[0]) - ta * cols[j].V;
+        Vector3d const w = wp.v[sg] - cols[j].V;
+        double const w2 = w.norm2();
+        double const t = w2 > 0. ? std::clamp(-(ds * w) / w2, 0., std::max(0., tb - ta)) : 0.;
+        if ((ds + t * w).norm2() < rr * rr) {
+          cand.push_back({id[i], static_cast<int>(j), me, i, type[i], d0, v[i], pos[i][wg.a]});
+          return;
+        }
+      }
     };
     if (indexed) {
       // a candidate is, at some time of the step, within radius + margin of
@@ -541,25 +687,26 @@ void Fluid::stream(System &s, double dt) {
         near(cols[j].R, r_pair[j] + margin + cols[j].V.norm() * dt, L, near_list);
         for (int i : near_list)
           if (!m_is_loose[i])
-            consider(i, j);
+            consider(i, j, true);
       }
       for (int i : m_loose)
         for (std::size_t j = 0; j < cols.size(); ++j)
           if (r_pair[j] > 0.)
-            consider(i, j);
+            consider(i, j, false);
     } else {
       for (int i = 0; i < n; ++i)
         for (std::size_t j = 0; j < cols.size(); ++j) {
           if (!(r_pair[j] > 0.))
             continue;
-          if (!small_box) {
-            // quick rejection along x (one wrap: r + reach < L/2)
+          if (!small_box && !(wall_events && m_wslot[i] >= 0)) {
+            // quick rejection along x (one wrap: r + reach < L/2; not for a
+            // particle whose velocity a wall changes within the step)
             double dx = pos[i][0] - R0[j][0];
             dx = dx > 0.5 * L[0] ? dx - L[0] : (dx < -0.5 * L[0] ? dx + L[0] : dx);
             if (std::abs(dx) >= r_pair[j] + margin + (std::abs(v[i][0]) + std::abs(cols[j].V[0])) * dt)
               continue;
           }
-          consider(i, j);
+          consider(i, j, false);
         }
     }
     if (s.comm().parallel())
@@ -568,15 +715,18 @@ void Fluid::stream(System &s, double dt) {
               [](Cand const &a, Cand const &b) { return a.pid < b.pid || (a.pid == b.pid && a.j < b.j); });
     // the particles (one state per pid) and the colloids' states
     struct PState {
-      int k0, k1, nb = 0, ver = 0;
+      int k0, k1, nb = 0, ver = 0, nw = 0; // nw: wall bounces
       Vector3d v, X{}; // velocity, displacement at time tp
       double tp = 0.;
+      double za = 0.;                 // x(0) along the wall axis
+      Vector3d to_lo{}, to_hi{};      // momentum handed to the walls
     };
     struct CState {
       Vector3d D{}, V, W; // displacement at time tc, velocity, angular velocity
       double tc = 0.;
       int ver = 0;
       double dv = 0.; // largest |V - V(0)| within the step
+      double A = 0.;  // sum of |dV| (dt - t) over its events so far
       std::vector<int> pairs;
     };
     std::vector<PState> P;
@@ -586,6 +736,7 @@ void Fluid::stream(System &s, double dt) {
         PState ps0;
         ps0.k0 = static_cast<int>(k);
         ps0.v = cand[k].v;
+        ps0.za = cand[k].za;
         P.push_back(ps0);
       }
       P.back().k1 = static_cast<int>(k) + 1;
@@ -607,34 +758,86 @@ void Fluid::stream(System &s, double dt) {
       }
     };
     std::vector<Ev> heap;
+    // Per pair, when its last computation found no crossing within the step:
+    // clr = its smallest distance from contact over the rest of the step,
+    // acc0 = the colloid's A then (else clr = -1). While the particle keeps
+    // its velocity, the colloid's velocity changes since then move the pair's
+    // relative path by at most A - acc0 (the sum of |dV| (dt - t) over them),
+    // so a pair with clr > A - acc0 still has no crossing and its recomputation
+    // after a velocity change of the colloid is skipped (it would schedule
+    // nothing: the same sequence of events; the slack 1e-9 radius keeps
+    // round-off out of it).
+    std::vector<double> clr(cand.size(), -1.), acc0(cand.size(), 0.);
     auto schedule = [&](int k, double t_now) {
       auto const &c = cand[k];
       auto const &p = P[p_of[k]];
       auto const &cs = C[c.j];
+      clr[k] = -1.;
       if (p.nb >= kMaxEventBounces)
         return;
       Vector3d const dn = c.d0 + (p.X + (t_now - p.tp) * p.v) - (cs.D + (t_now - cs.tc) * cs.V);
       Vector3d const w = p.v - cs.V;
       double const bb = dn * w;
-      if (!(bb < 0.))
-        return; // not approaching
-      double const cc = dn.norm2() - rad[k] * rad[k];
-      double const disc = bb * bb - w.norm2() * cc;
-      if (disc < 0.)
-        return; // passes by
-      // the entry root, stable form (c / (larger root)); 0 if inside already
-      double const t = t_now + (cc <= 0. ? 0. : cc / (-bb + std::sqrt(disc)));
+      if (bb < 0.) { // approaching
+        double const cc = dn.norm2() - rad[k] * rad[k];
+        double const disc = bb * bb - w.norm2() * cc;
+        if (disc >= 0.) { // else it passes by
+          // the entry root, stable form (c / (larger root)); 0 if inside already
+          double const t = t_now + (cc <= 0. ? 0. : cc / (-bb + std::sqrt(disc)));
+          if (t <= dt) {
+            heap.push_back({t, c.pid, c.j, k, p.ver, cs.ver});
+            std::push_heap(heap.begin(), heap.end(), std::greater<Ev>{});
+            return;
+          }
+        }
+      }
+      double const w2 = w.norm2();
+      double const s = w2 > 0. ? std::clamp(-bb / w2, 0., std::max(0., dt - t_now)) : 0.;
+      clr[k] = (dn + s * w).norm() - rad[k];
+      acc0[k] = cs.A;
+    };
+    // walled channel: the particle's next wall bounce (j = -1, k = its state)
+    auto schedule_wall = [&](int pi, double t_now) {
+      auto const &p = P[static_cast<std::size_t>(pi)];
+      int const a = wg.a;
+      double const vz = p.v[a];
+      if (p.nw >= kMaxWallBounces || vz == 0.)
+        return;
+      double const z = p.za + p.X[a] + (t_now - p.tp) * vz;
+      double const t = t_now + std::max(0., ((vz < 0. ? wg.z0 : wg.z1) - z) / vz);
       if (!(t <= dt))
         return;
-      heap.push_back({t, c.pid, c.j, k, p.ver, cs.ver});
+      heap.push_back({t, cand[static_cast<std::size_t>(p.k0)].pid, -1, pi, p.ver, 0});
       std::push_heap(heap.begin(), heap.end(), std::greater<Ev>{});
     };
     for (std::size_t k = 0; k < cand.size(); ++k)
       schedule(static_cast<int>(k), 0.);
+    if (wall_events)
+      for (std::size_t pi = 0; pi < P.size(); ++pi)
+        schedule_wall(static_cast<int>(pi), 0.);
     while (!heap.empty()) {
       std::pop_heap(heap.begin(), heap.end(), std::greater<Ev>{});
       Ev const e = heap.back();
       heap.pop_back();
+      if (e.j < 0) { // a wall bounce (the fixed-surface wall rule)
+        auto &p = P[static_cast<std::size_t>(e.k)];
+        if (p.ver != e.vp || p.nw >= kMaxWallBounces)
+          continue; // outdated
+        int const a = wg.a;
+        double const t = e.t;
+        p.X += (t - p.tp) * p.v;
+        p.tp = t;
+        bool const lo = p.v[a] < 0.;
+        p.X[a] = (lo ? wg.z0 : std::nextafter(wg.z1, wg.z0)) - p.za;
+        Vector3d const vn = wall_rule(wg, step, static_cast<std::uint64_t>(e.pid), p.nw, lo, p.v);
+        (lo ? p.to_lo : p.to_hi) += m * (p.v - vn);
+        p.v = vn;
+        ++p.nw, ++p.ver;
+        for (int k2 = p.k0; k2 < p.k1; ++k2) // its new velocity: its colloids
+          schedule(k2, t);
+        schedule_wall(e.k, t);
+        continue;
+      }
       auto &p = P[p_of[e.k]];
       auto &cs = C[e.j];
       if (p.ver != e.vp || cs.ver != e.vc || p.nb >= kMaxEventBounces)
@@ -655,18 +858,25 @@ void Fluid::stream(System &s, double dt) {
       auto const bo = pair_rule(b, m, col.M, col.I, cs.V, cs.W, nrm, p.v, kT, m_p.seed, step,
                                 static_cast<std::uint64_t>(c.pid), key0(p.nb), key1(p.nb));
       cs.V += bo.J / col.M;
+      cs.A += (bo.J / col.M).norm() * (dt - t);
       cs.dv = std::max(cs.dv, (cs.V - col.V).norm());
       if (col.I > 0.)
         cs.W += cross(arm, bo.J) / col.I;
       dP[e.j] += bo.J;
       p.v = bo.vn;
       ++p.nb, ++p.ver, ++cs.ver;
+      clr[e.k] = -1.; // the particle's new velocity (not recomputed now)
       for (int k2 : cs.pairs) // the colloid's new velocity: its other pairs
-        if (k2 != e.k)
+        if (k2 != e.k) {
+          if (clr[k2] - (cs.A - acc0[k2]) > 1e-9 * rad[k2])
+            continue; // no crossing possible before the end of the step
           schedule(k2, t);
+        }
       for (int k2 = p.k0; k2 < p.k1; ++k2) // the particle's new velocity: its other colloids
         if (k2 != e.k)
           schedule(k2, t);
+      if (wall_events)
+        schedule_wall(p_of[e.k], t);
     }
     for (std::size_t j = 0; j < cols.size(); ++j) {
       auto &cs = C[j];
@@ -689,8 +899,15 @@ void Fluid::stream(System &s, double dt) {
         continue;
       auto const &c = cand[p.k0];
       n_bounces.emplace_back(c.pid, p.nb);
-      if (c.rank == me)
+      if (c.rank == me) {
         moved.push_back({c.index, std::array<Vector3d, 2>{pos[c.index] + p.X + (dt - p.tp) * p.v, p.v}});
+        if (wall_events) { // its flight of the event sequence replaces wpath's
+          momentum_to_wall_lo += p.to_lo;
+          momentum_to_wall_hi += p.to_hi;
+          if (m_wslot[c.index] >= 0)
+            wpath[static_cast<std::size_t>(m_wslot[c.index])].used = false;
+        }
+      }
     }
   }
   auto bounces_of = [&](int pid) {
@@ -701,17 +918,29 @@ void Fluid::stream(System &s, double dt) {
   // 2. End-of-step check: the SRD particles found inside a colloid after
   // streaming (each at most once per step, off the first colloid in id
   // order that holds it): every bounce of the `fixed_surface` and `seed003`
-  // couplings and of walled channels (seed 003's rule: half a step back,
-  // onto the surface), and with the pair coupling only a particle the event
-  // search did not foresee.
+  // couplings (seed 003's rule: half a step back, onto the surface), and
+  // with the pair coupling (also in walled channels, since 2026-12-01) only a
+  // particle the event search did not foresee.
   for (int i = 0; i < n; ++i) {
     pos[i] += dt_free * v[i];
     fold(pos[i], L);
+  }
+  for (auto &w : wpath) { // walled channel: the flights between the walls
+    pos[w.i] = w.x_end, v[w.i] = w.v_end;
+    fold(pos[w.i], L);
+    m_wslot[w.i] = -1;
+    if (w.used)
+      momentum_to_wall_lo += w.to_lo, momentum_to_wall_hi += w.to_hi;
   }
   for (auto const &mv : moved) {
     int const i = mv.first;
     pos[i] = mv.second[0], v[i] = mv.second[1];
     fold(pos[i], L);
+    if (wall_events) { // a straight piece may have ended past a wall by round-off
+      int const a = wg.a;
+      if (pos[i][a] < wg.z0 || pos[i][a] >= wg.z1)
+        pos[i][a] = std::clamp(pos[i][a], wg.z0, std::nextafter(wg.z1, wg.z0));
+    }
   }
   for (std::size_t j = 0; j < cols.size(); ++j) { // the centres after the events
     Rf[j] = cols[j].R;
@@ -872,48 +1101,11 @@ void Fluid::stream(System &s, double dt) {
 // Channel walls at x[a] = 0 and L: exact crossing time (planes are cheap),
 // the boundary rule in the frame of the wall, the rest of the step streamed.
 void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
-  int const a = m_p.wall_axis;
-  double const z0 = wall_lo(), z1 = wall_hi(L[a]);
-  double const sig = std::sqrt(m_p.kT / m_p.mass);
-  auto const rule = static_cast<BoundaryRule>(m_p.wall_rule);
-  for (int i = 0; i < size(); ++i) {
-    double t_left = dt;
-    for (int bounce = 0; bounce < 4; ++bounce) {
-      double const z = pos[i][a] + t_left * v[i][a];
-      if (z >= z0 && z < z1)
-        break;
-      bool const lo = z < z0;
-      double const tc = std::clamp(((lo ? z0 : z1) - pos[i][a]) / v[i][a], 0., t_left);
-      pos[i] += tc * v[i];
-      pos[i][a] = lo ? z0 : std::nextafter(z1, z0);
-      t_left -= tc;
-      Vector3d nrm{};
-      nrm[a] = lo ? 1. : -1.; // into the fluid
-      Vector3d const vw = lo ? m_p.wall_v_lo : m_p.wall_v_hi;
-      Vector3d vn;
-      Vector3d const vr = v[i] - vw;
-      double const vrn = vr * nrm;
-      if (rule == BoundaryRule::stochastic) {
-        auto const g = gauss4(m_p.seed, Utils::RNGSalt::srd_wall, step, static_cast<std::uint64_t>(id[i]), 2 + bounce);
-        auto const u = Utils::philox_4x64(m_p.seed, Utils::RNGSalt::srd_wall, step,
-                                          static_cast<std::uint64_t>(id[i]), 8 + bounce);
-        vn = vw + (sig * std::sqrt(-2. * std::log(unit_open0(u[0])))) * nrm;
-        int const t1 = (a + 1) % 3, t2 = (a + 2) % 3;
-        vn[t1] += sig * g[0];
-        vn[t2] += sig * g[1];
-      } else if (rule == BoundaryRule::bounce_back || rule == BoundaryRule::rough) {
-        vn = 2. * vw - v[i];
-      } else { // slip
-        vn = v[i] - (2. * vrn) * nrm;
-      }
-      (lo ? momentum_to_wall_lo : momentum_to_wall_hi) += m_p.mass * (v[i] - vn);
-      v[i] = vn;
-      m_vmax = std::max(m_vmax, vn.norm()); // the colloid search's displacement bound
-    }
-    pos[i] += t_left * v[i];
-    if (pos[i][a] < z0 || pos[i][a] >= z1) // pathological: still outside
-      pos[i][a] = std::clamp(pos[i][a], z0, std::nextafter(z1, z0));
-  }
+  WallGeom const g{m_p.wall_axis, wall_lo(), wall_hi(L[m_p.wall_axis]), std::sqrt(m_p.kT / m_p.mass),
+                   m_p.mass, static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
+  for (int i = 0; i < size(); ++i)
+    wall_flight(g, step, static_cast<std::uint64_t>(id[i]), dt, pos[i], v[i], momentum_to_wall_lo,
+                momentum_to_wall_hi, m_vmax, [](double, Vector3d const &, Vector3d const &) {});
 }
 
 int Fluid::move_out(System &s) { return relocate_overlapping(s, 0x5eed0000ull + s.step()); }

@@ -200,6 +200,9 @@ private:
   std::vector<std::uint64_t> m_hit;
   std::vector<int> m_loose;
   std::vector<char> m_is_loose;
+  // walled channel with colloids: per particle its index in the step's list
+  // of flights that hit a wall, -1 if none (stream)
+  std::vector<int> m_wslot;
   // the particles that left this rank's domain (ascending index), listed by
   // the streaming step just before a collision (m_leave_valid), used and
   // cleared by the migration of that collision

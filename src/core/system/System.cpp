@@ -87,6 +87,27 @@ void System::on_constraints_change() {
   on_particle_change();
 }
 
+void System::set_lees_edwards(int shear_direction, int shear_plane_normal, LeesEdwardsProtocol const &protocol) {
+  m_le_protocol = protocol;
+  bool const on = protocol.kind != LeesEdwardsProtocol::Off;
+  m_le_direction = on ? shear_direction : -1;
+  m_le_normal = on ? shear_plane_normal : -1;
+  update_lees_edwards();
+  on_particle_change(); // new images: rebuild the lists
+}
+
+void System::update_lees_edwards() {
+  LeesEdwardsBC le;
+  if (m_le_protocol.kind != LeesEdwardsProtocol::Off) {
+    le.shear_direction = m_le_direction;
+    le.shear_plane_normal = m_le_normal;
+    le.pos_offset = m_le_protocol.pos_offset(m_time);
+    le.shear_velocity = m_le_protocol.velocity(m_time);
+  }
+  m_box.set_lees_edwards(le);
+  m_cells.set_lees_edwards(le);
+}
+
 void System::set_periodic(int d, bool p) {
   m_box.set_periodic(d, p);
   on_particle_change();
@@ -126,6 +147,30 @@ void System::check_scene_before_run() const {
     msg = "cannot integrate: " + msg;
 #endif
   m_comm.throw_if_any(msg);
+  if (m_box.lees_edwards().active()) {
+    std::string why;
+    int const n = m_le_normal, sd = m_le_direction;
+    if (m_comm.parallel())
+      why = "they run on one MPI rank only (this run has " + std::to_string(m_comm.size()) + " ranks)";
+#ifdef SRD
+    else if (srd)
+      why = "an SRD solvent is not supported (its streaming and cell grid ignore the offset)";
+#endif
+#ifdef MARBLE
+    else if (m_colloids.any())
+      why = "marble colloids are not supported (their neighbour search uses plain periodic images)";
+#endif
+    else if (m_integrator == IntegratorKind::Shardlow)
+      why = "the Shardlow integrator is not supported (its sweep uses the owners' velocities "
+            "without the shear velocity jump); use integrator.set_vv() or set_dpd_vv()";
+    else if (m_integrator == IntegratorKind::BrownianDynamics)
+      why = "Brownian dynamics is not supported; use a velocity Verlet integrator";
+    else if (!m_box.periodic(n) || !m_box.periodic(sd))
+      why = "the shear direction and the shear-plane normal must be periodic axes";
+    if (!why.empty())
+      throw Utils::RuntimeError("cannot integrate with Lees-Edwards boundary conditions: " + why +
+                                " (doc/lees-edwards.md)");
+  }
   if (m_comm.parallel() && m_integrator == IntegratorKind::Shardlow)
     throw Utils::RuntimeError(
         "cannot integrate: the Shardlow integrator runs on one MPI rank only (its pair sweep "

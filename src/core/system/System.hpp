@@ -78,7 +78,35 @@ public:
   double time_step() const { return m_time_step; }
   void set_time_step(double dt);
   double time() const { return m_time; }
-  void set_time(double t) { m_time = t; }
+  void set_time(double t) {
+    m_time = t;
+    if (m_le_protocol.kind != LeesEdwardsProtocol::Off) {
+      update_lees_edwards();
+      m_cells.invalidate(); // the offset may have jumped
+    }
+  }
+
+  // --- Lees-Edwards boundary conditions (box/LeesEdwards.hpp, doc/lees-edwards.md) ---
+  /** Switch Lees-Edwards on with @p protocol (kind Off: switch it off).
+   * Axes validated by the caller (distinct, in [0, 3)). */
+  void set_lees_edwards(int shear_direction, int shear_plane_normal, LeesEdwardsProtocol const &protocol);
+  LeesEdwardsProtocol const &lees_edwards_protocol() const { return m_le_protocol; }
+  /** The box's Lees-Edwards state from the protocol at the current time. */
+  void update_lees_edwards();
+  /** Velocity of local @p i in the frame of its folded position: with
+   * Lees-Edwards, a particle that crossed the shear plane since the last list
+   * build (folded, with the velocity jump, at the next build) is reported
+   * with the jump already applied; otherwise ps.v[i]. */
+  Utils::Vector3d folded_velocity(int i) const {
+    auto const &le = m_box.lees_edwards();
+    if (!le.active())
+      return m_ps.v[i];
+    Utils::Vector3d p = m_ps.pos[i], v = m_ps.v[i];
+    Utils::Vector3i img{};
+    int const k = m_box.fold(p, img);
+    v[le.shear_direction] -= k * le.shear_velocity;
+    return v;
+  }
   std::uint64_t step() const { return m_step; }
   void set_skin(double s);
   double skin() const { return m_cells.skin(); }
@@ -270,6 +298,9 @@ private:
   double configure_large_range(double cut);
   std::vector<std::shared_ptr<AutoUpdate>> m_auto_update;
   Constraints m_constraints;
+  // Lees-Edwards: the protocol and axes (the current state lives in m_box)
+  LeesEdwardsProtocol m_le_protocol;
+  int m_le_direction = -1, m_le_normal = -1;
   void refresh_large_types();
 #ifdef MARBLE
   Colloids m_colloids;

@@ -7,6 +7,7 @@ from ._marble import FeaturesError, mpi_rank, mpi_size, build_options  # noqa: F
 from .code_features import features, has_features, missing_features, all_features, assert_features
 from .system import System
 from . import shapes, colloids, suspensions  # noqa: F401  (marble.shapes.Wall, marble.colloids.add_marble, marble.suspensions)
+from . import lees_edwards  # noqa: F401  (marble.lees_edwards.LinearShear, ...)
 from . import io, checkpointing  # noqa: F401  (marble.io.H5md, marble.checkpointing.Checkpoint)
 from . import srd  # noqa: F401,E402  (marble.srd.SRDFluid)  # SRD
 

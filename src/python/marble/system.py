@@ -10,6 +10,7 @@ from .cell_system import CellSystem
 from .constraints import Constraints
 from .galilei import GalileiTransform
 from .integrate import Integrator
+from .lees_edwards import LeesEdwards
 from .interactions import NonBondedInteractions
 from .particle_data import ParticleList, ParticleHandle
 from .thermostat import Thermostat
@@ -42,7 +43,8 @@ class System:
             self.time_step = kwargs["time_step"]
 
     _wrappers = ("_core", "part", "non_bonded_inter", "thermostat", "integrator", "cell_system",
-                 "analysis", "galilei", "constraints", "auto_update_accumulators")
+                 "analysis", "galilei", "constraints", "auto_update_accumulators",
+                 "lees_edwards")
 
     def _init_wrappers(self):
         self.part = ParticleList(self)
@@ -54,6 +56,7 @@ class System:
         self.galilei = GalileiTransform(self)
         self.constraints = Constraints(self)
         self.auto_update_accumulators = AutoUpdateAccumulators(self)
+        self.lees_edwards = LeesEdwards(self)
 
     # --- pickling (marble.checkpointing, doc/io.md) -------------------------
     def __reduce__(self):
@@ -191,6 +194,8 @@ class System:
         """Minimum-image vector from p1 to p2 (particles or positions)."""
         a = self._position_of(p1, "p1")
         b = self._position_of(p2, "p2")
+        if self.lees_edwards.shear_direction is not None:  # the Lees-Edwards images
+            return self.lees_edwards.distance_vec(a, b)
         d = b - a
         L = self.box_l
         return d - L * np.round(d / L)
