@@ -86,6 +86,7 @@ CellSystem::Grid::Grid(Vector3d const &lo_, Vector3d const &len, double range) {
     n[d] = range > 0. ? std::max(1, static_cast<int>(len[d] / range)) : 1;
     n[d] = std::min(n[d], 256); // bounded memory for tiny cutoffs
     size[d] = len[d] / n[d];
+    inv_size[d] = 1. / size[d];
     ext[d] = n[d] + 2;
   }
 }
@@ -278,6 +279,7 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
 
 void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   int const n = ps.n_local();
+  m_local_cells_ready = false;
   if (m_range <= 0.)
     return;
   auto const dom = local_domain(box);
@@ -300,8 +302,21 @@ void CellSystem::sort_locals(ParticleStore &ps, BoxGeometry const &box) {
   bool sorted = true;
   for (int i = 0; i < n && sorted; ++i)
     sorted = order[i] == i;
+  // (rebuild overwrites pos_at_rebuild right after the sort)
   if (!sorted)
-    ps.permute_locals(order);
+    ps.permute_locals(order, /*skip_pos_at_rebuild=*/true);
+  // the locals' cells in the new order, for build_pairs: bucket c is now
+  // [count[c - 1], count[c]) (the large-range bucket: -1, as there)
+  if (!sorted)
+    for (int c = 0, k = 0; c <= g.n_total(); ++c) {
+      int const v = c == g.n_total() ? -1 : c;
+      for (; k < count[c]; ++k)
+        cell[k] = v;
+    }
+  else if (any_wide)
+    for (int k = 0; k < n; ++k)
+      cell[k] = cell[k] == g.n_total() ? -1 : cell[k];
+  m_local_cells_ready = true;
 }
 
 void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
@@ -662,9 +677,58 @@ scan_candidates_avx2(double const *pi, double range2, CandidateRange const *rang
   return n;
 }
 
+/** scan_candidates with AVX-512 (F + VL): eight candidates per test, the
+ * same arithmetic in the same order ((dx^2 + dy^2) + dz^2 < range2; the
+ * empty asm keeps the compiler from fusing a product and a sum into an FMA,
+ * which would round differently), the range's tail masked, the partners
+ * within range compressed into one 256-bit store. The coordinate and member
+ * arrays are padded by 8 slots, @p out has 8 slots of room past the pairs. */
+__attribute__((target("avx512f,avx512vl,bmi2,popcnt"))) std::size_t
+scan_candidates_avx512(double const *pi, double range2, CandidateRange const *ranges,
+                       int n_ranges, double const *mx, double const *my, double const *mz,
+                       int const *members, int *out, std::size_t n) {
+  __m512d const px = _mm512_set1_pd(pi[0]), py = _mm512_set1_pd(pi[1]), pz = _mm512_set1_pd(pi[2]);
+  __m512d const r2v = _mm512_set1_pd(range2);
+  for (int q = 0; q < n_ranges; ++q) {
+    int const k1 = ranges[q].k1;
+    for (int k = ranges[q].k0; k < k1; k += 8) {
+      __m512d const dx = _mm512_sub_pd(px, _mm512_loadu_pd(mx + k));
+      __m512d const dy = _mm512_sub_pd(py, _mm512_loadu_pd(my + k));
+      __m512d const dz = _mm512_sub_pd(pz, _mm512_loadu_pd(mz + k));
+      __m512d xx = _mm512_mul_pd(dx, dx), yy = _mm512_mul_pd(dy, dy), zz = _mm512_mul_pd(dz, dz);
+      __asm__("" : "+v"(xx), "+v"(yy), "+v"(zz));
+      __m512d const d2 = _mm512_add_pd(_mm512_add_pd(xx, yy), zz);
+      unsigned const rem = static_cast<unsigned>(std::min(k1 - k, 8));
+      __mmask8 const tail = static_cast<__mmask8>(_bzhi_u32(0xffu, rem));
+      __mmask8 const m = _mm512_mask_cmp_pd_mask(tail, d2, r2v, _CMP_LT_OQ);
+      __m256i const js = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(members + k));
+      _mm256_storeu_si256(reinterpret_cast<__m256i *>(out + n), _mm256_maskz_compress_epi32(m, js));
+      n += static_cast<std::size_t>(_mm_popcnt_u32(m));
+    }
+  }
+  return n;
+}
+
 #endif
 
+// The candidate-scan path: 0 scalar/SSE2, 1 AVX2, 2 AVX-512 (all give the same list).
+int best_scan_path() {
+#ifdef MARBLE_CELLS_AVX2
+  static int const best = (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                           __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+                              ? 2
+                              : (Utils::cpu_has_avx2() ? 1 : 0);
+  return best;
+#else
+  return 0;
+#endif
+}
+int g_scan_path = -1; // -1: best_scan_path()
+
 } // namespace
+
+void CellSystem::set_scan_path(int path) { g_scan_path = path < 0 ? -1 : std::min(path, best_scan_path()); }
+int CellSystem::scan_path() { return g_scan_path < 0 ? best_scan_path() : g_scan_path; }
 
 // The list order (and so the force summation order) is: locals i ascending
 // (one row of partners j per i, VerletPairs);
@@ -699,6 +763,9 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   bool const any_wide = !m_wide.empty();
   m_wide_locals.clear();
   auto &cell = m_scratch_cell;
+  // the locals' cells come from sort_locals (same grid, same positions)
+  bool const locals_ready = m_local_cells_ready && cell.size() == static_cast<std::size_t>(n_local);
+  m_local_cells_ready = false;
   cell.resize(static_cast<std::size_t>(n_all));
   auto &start = m_cell_start;
   auto &members = m_cell_members;
@@ -711,13 +778,17 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
         m_wide_locals.push_back(i);
       continue;
     }
-    cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
+    if (!(locals_ready && i < n_local))
+      cell[i] = i < n_local ? g.local_index(ps.pos[i]) : g.index(ps.pos[i]);
     ++start[cell[i] + 1];
     ++n_members;
   }
   int const n_small_local = n_local - static_cast<int>(m_wide_locals.size());
-  constexpr int kPad = 4; // the AVX2 scan reads up to 3 slots past a range
-  members.assign(static_cast<std::size_t>(n_members + kPad), 0);
+  // the AVX-512 scan reads up to 7 slots past a range and stores 8 partners
+  // at the list's end; the finished list is padded by 4 zeros (VerletPairs)
+  constexpr int kPad = 8, kListPad = 4;
+  members.resize(static_cast<std::size_t>(n_members + kPad));
+  std::fill(members.end() - kPad, members.end(), 0);
   for (int c = 0; c < n_cells; ++c)
     start[c + 1] += start[c];
   auto &fill = m_scratch_fill;
@@ -731,9 +802,10 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       members[fill[cell[i]]++] = i;
   // Cell-ordered coordinates, one array per axis: contiguous reads below.
   auto &mx = m_scratch_x, &my = m_scratch_y, &mz = m_scratch_z;
-  mx.assign(static_cast<std::size_t>(n_members + kPad), 0.);
-  my.assign(static_cast<std::size_t>(n_members + kPad), 0.);
-  mz.assign(static_cast<std::size_t>(n_members + kPad), 0.);
+  for (auto *m : {&mx, &my, &mz}) {
+    m->resize(static_cast<std::size_t>(n_members + kPad));
+    std::fill(m->end() - kPad, m->end(), 0.);
+  }
   for (int k = 0; k < n_members; ++k) {
     auto const &p = ps.pos[members[k]];
     mx[k] = p[0];
@@ -747,9 +819,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   std::array<double, 3> eps{};
   for (int d = 0; d < 3; ++d)
     eps[d] = 1e-9 * (std::abs(g.lo[d]) + g.size[d] * g.ext[d]);
-#ifdef MARBLE_CELLS_AVX2
-  bool const avx2 = Utils::cpu_has_avx2();
-#endif
+  int const path = scan_path();
+  (void)path;
   // The list keeps its size between rebuilds (no zero fill of the whole
   // buffer): it grows only when a particle's candidates might not fit.
   std::size_t n_pairs = 0;
@@ -848,7 +919,10 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
         kept[n_kept++] = {lo, hi};
       }
 #ifdef MARBLE_CELLS_AVX2
-      if (avx2)
+      if (path == 2)
+        n_pairs = scan_candidates_avx512(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                         mz.data(), members.data(), pj.data(), n_pairs);
+      else if (path == 1)
         n_pairs = scan_candidates_avx2(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
                                        mz.data(), members.data(), pj.data(), n_pairs);
       else
@@ -859,8 +933,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     }
     i_begin = i_end;
   }
-  pj.resize(n_pairs + kPad); // padded by valid indices for SIMD reads past a row
-  std::fill(pj.end() - kPad, pj.end(), 0);
+  pj.resize(n_pairs + kListPad); // padded by valid indices for SIMD reads past a row
+  std::fill(pj.end() - kListPad, pj.end(), 0);
   members.resize(static_cast<std::size_t>(n_members));
   // A pair with another rank's particle is computed by the rank owning the
   // smaller id, but only for large-range particles and colloid copies (they
@@ -885,8 +959,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       }
     }
     row[static_cast<std::size_t>(n_small_local)] = static_cast<int>(w);
-    pj.resize(w + kPad);
-    std::fill(pj.end() - kPad, pj.end(), 0);
+    pj.resize(w + kListPad);
+    std::fill(pj.end() - kListPad, pj.end(), 0);
   }
   if (any_wide)
     build_wide_pairs(ps, box, n_small_local, ghost_begin);
@@ -1022,8 +1096,20 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
   m_range = range;
   m_le = box.lees_edwards();
   if (!m_le.active()) {
-    for (int i = 0; i < ps.n_local(); ++i)
-      box.fold(ps.pos[i], ps.image[i]);
+    // a coordinate in [0, 0.9999999 L) is left as it is by fold (its
+    // floor(x / L) is 0): fold only the particles with some other coordinate
+    // along a periodic axis (no division for the others; the same result)
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      bool const p = box.periodic(d);
+      lo[d] = p ? 0. : -std::numeric_limits<double>::infinity();
+      hi[d] = p ? box.length()[d] * (1. - 1e-7) : std::numeric_limits<double>::infinity();
+    }
+    for (int i = 0; i < ps.n_local(); ++i) {
+      Vector3d const &x = ps.pos[i];
+      if (!(x[0] >= lo[0] && x[0] < hi[0] && x[1] >= lo[1] && x[1] < hi[1] && x[2] >= lo[2] && x[2] < hi[2]))
+        box.fold(ps.pos[i], ps.image[i]);
+    }
   } else {
     // Lees-Edwards: a particle crossing the shear plane k times upwards gets
     // its velocity along the shear direction shifted by -k * shear_velocity

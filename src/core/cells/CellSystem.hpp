@@ -219,10 +219,22 @@ public:
   struct Grid {
     std::array<int, 3> n{1, 1, 1}, ext{3, 3, 3};
     Utils::Vector3d size{1., 1., 1.}, lo{0., 0., 0.};
+    Utils::Vector3d inv_size{1., 1., 1.}; // 1 / size (rounded)
     Grid() = default;
     Grid(Utils::Vector3d const &lo, Utils::Vector3d const &len, double range);
+    /** floor((x - lo) / size) + 1, clamped to [0, ext - 1]. The quotient is
+     * first taken as a product with 1 / size, which differs from it by a few
+     * ulps at most: where the product is farther than 1e-9 from an integer
+     * (and below 1e6) both have the same floor; otherwise (and for NaN or
+     * infinities) the division decides. The same cells, one division less. */
     int coord(double x, int d) const {
-      double const c = std::floor((x - lo[d]) / size[d]) + 1.;
+      double const u = x - lo[d];
+      double const t = u * inv_size[d];
+      double f = std::floor(t);
+      double const frac = t - f;
+      if (!(frac > 1e-9 && frac < 1. - 1e-9 && std::abs(t) < 1e6))
+        f = std::floor(u / size[d]);
+      double const c = f + 1.;
       return static_cast<int>(std::clamp(c, 0., static_cast<double>(ext[d] - 1)));
     }
     /** Cell of a local: clamped into the domain's own cells (round-off at the
@@ -239,6 +251,12 @@ public:
     int n_total() const { return ext[0] * ext[1] * ext[2]; }
   };
   std::array<int, 3> const &n_cells() const { return m_n_cells; }
+  /** Candidate-scan code path of the list build: 0 scalar/SSE2, 1 AVX2,
+   * 2 AVX-512; all give the same list, pair for pair. set_scan_path(-1): the
+   * best this CPU runs (the default); a path above that is lowered to it.
+   * For tests and benchmarks (process-wide). */
+  static void set_scan_path(int path);
+  static int scan_path();
   long n_rebuilds() const { return m_n_rebuilds; }
 
 private:
@@ -282,6 +300,7 @@ private:
   std::vector<int> m_scratch_cell, m_scratch_fill, m_scratch_ghost_begin;
   std::vector<double> m_scratch_x, m_scratch_y, m_scratch_z;
   int m_n_local_at_build = 0;
+  bool m_local_cells_ready = false; // m_scratch_cell holds the sorted locals' cells (sort_locals)
   Communicator const *m_comm = nullptr;
   std::vector<char> m_replicated;
   // large-range types: per-type flag, cutoffs (no skin), ranges (with skin)

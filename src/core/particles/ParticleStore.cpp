@@ -178,24 +178,31 @@ GhostRecord ParticleStore::ghost_record(int i, Utils::Vector3d const &shift) con
   return r;
 }
 
-void ParticleStore::permute_locals(std::vector<int> const &order) {
+void ParticleStore::permute_locals(std::vector<int> const &order, bool skip_pos_at_rebuild) {
   assert(n_ghost() == 0 && static_cast<int>(order.size()) == m_n_local);
-  // gather each array through one byte buffer kept between calls (no
-  // allocation, hence no fresh pages, per rebuild)
-  auto apply = [this, &order](auto &arr) {
+  std::size_t const n = order.size();
+  int const *const o = order.data();
+  auto apply = [&](auto &arr) {
     using T = typename std::decay_t<decltype(arr)>::value_type;
     static_assert(std::is_trivially_copyable_v<T>);
-    std::size_t const n = order.size();
-    std::size_t const words = (n * sizeof(T) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
-    if (m_permute_scratch.size() < words)
-      m_permute_scratch.resize(words);
-    auto *const tmp = reinterpret_cast<T *>(m_permute_scratch.data());
+    // an array whose elements are all the same bytes (masses of 1, zero
+    // torques, default frictions, ...) is its own permutation: one compare
+    // of each element with the next instead of a gather and a write
+    if (n < 2 || std::memcmp(arr.data(), arr.data() + 1, (n - 1) * sizeof(T)) == 0)
+      return;
+    auto &tmp = std::get<std::vector<T>>(m_permute_spare);
+    tmp.resize(n);
+    T const *const src = arr.data();
+    T *const dst = tmp.data();
     for (std::size_t k = 0; k < n; ++k)
-      tmp[k] = arr[static_cast<std::size_t>(order[k])];
-    std::memcpy(static_cast<void *>(arr.data()), tmp, n * sizeof(T));
+      dst[k] = src[static_cast<std::size_t>(o[k])];
+    arr.swap(tmp);
   };
   for_each_array(apply);
-  for_each_local_array(apply);
+  for_each_local_array([&](auto &arr) {
+    if (!(skip_pos_at_rebuild && static_cast<void *>(&arr) == static_cast<void *>(&pos_at_rebuild)))
+      apply(arr);
+  });
   for (int k = 0; k < m_n_local; ++k)
     m_index[id[k]] = k;
 }

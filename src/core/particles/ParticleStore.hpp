@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 namespace Marble {
@@ -126,8 +127,10 @@ public:
   void add_remote_ghost(GhostRecord const &r, int marker);
   /** The record another rank needs to make a ghost of local @p i at +@p shift. */
   GhostRecord ghost_record(int i, Utils::Vector3d const &shift) const;
-  /** Reorder locals by @p order (new position k holds old order[k]). */
-  void permute_locals(std::vector<int> const &order);
+  /** Reorder locals by @p order (new position k holds old order[k]). With
+   * @p skip_pos_at_rebuild, pos_at_rebuild is left as it is (no longer
+   * matching the locals: the caller overwrites it). */
+  void permute_locals(std::vector<int> const &order, bool skip_pos_at_rebuild = false);
 
 private:
   void append_ghost(GhostRecord const &r, int owner, Utils::Vector3d const &shift);
@@ -135,8 +138,12 @@ private:
   template <typename F> void for_each_local_array(F &&f);
   int m_n_local = 0;
   std::vector<int> m_index; // id -> local index, -1 if absent
-  // permute_locals' gather buffer (max_align_t elements: aligned for every array type)
-  std::vector<std::max_align_t> m_permute_scratch;
+  // permute_locals' gather buffers, one per element type: an array is gathered
+  // into the spare of its type, which then swaps with it (kept between calls:
+  // no allocation, hence no fresh pages, and no copy back per rebuild)
+  std::tuple<std::vector<int>, std::vector<double>, std::vector<std::uint8_t>,
+             std::vector<Utils::Vector3d>, std::vector<Utils::Vector3i>>
+      m_permute_spare;
 };
 
 } // namespace Marble
