@@ -63,6 +63,42 @@ struct OU {
   }
 };
 
+// Lees-Edwards (one rank): the velocity jump of list entry k. An image across
+// the shear plane (shift k_n L_n along the normal, CellSystem::make_le_ghosts)
+// moves with v_owner + k_n shear_velocity e_s, the velocity it carries in the
+// force loop; the sweep reads the owners' current velocities, so it adds the
+// jump to the relative velocity. Zero for locals and for images that do not
+// cross the shear plane. The velocity change of a pair is the same in either
+// frame, so it goes to the owners unchanged.
+struct LEJump {
+  bool on = false;
+  int normal = 0, dir = 0;
+  double L_n = 1., vs = 0.;
+  explicit LEJump(System const &sys) {
+    auto const &le = sys.box().lees_edwards();
+    if (!le.active())
+      return;
+    on = true;
+    normal = le.shear_plane_normal;
+    dir = le.shear_direction;
+    L_n = sys.box().length()[normal];
+    vs = le.shear_velocity;
+  }
+  /** The jump of entry k along the shear direction (0 for locals). */
+  double operator()(ParticleStore const &ps, int k) const {
+    int const nl = ps.n_local();
+    if (k < nl)
+      return 0.;
+    double const kn = std::round(ps.ghost_shift[k - nl][normal] / L_n);
+    return kn * vs;
+  }
+  /** The jump of v_i - v_j for the pair (i, j) of list entries. */
+  Vector3d pair(ParticleStore const &ps, int i, int j) const {
+    Vector3d w{0., 0., 0.};
+    w[dir] = (*this)(ps, i) - (*this)(ps, j);
+    return w;
+  }
+};
 #endif // DPD
 } // namespace
 
@@ -73,6 +109,7 @@ void shardlow_sweep(System &sys) {
   double const dt = sys.time_step();
   NoiseContext const noise = sys.noise_context(true);
   double const kT = sys.thermostat().dpd.kT;
+  LEJump const le_jump(sys);
   std::array<Vector3d, kPairBlock> xi;
 #ifdef TRANS_DPD
   bool const any_sf = ia.any_active<SurfaceFriction>();
@@ -106,6 +143,10 @@ void shardlow_sweep(System &sys) {
       double const r2 = d.norm2();
       if (!(r2 > 0.))
         continue;
+      // Lees-Edwards: the jump of v_i - v_j across the shear plane (none
+      // for local-local pairs)
+      bool const jump = le_jump.on && (i >= ps.n_local() || j >= ps.n_local());
+      Vector3d const vjump = jump ? le_jump.pair(ps, i, j) : Vector3d{};
       // the DPD pair update
       [&] {
         DPDParams const &p = pair.get<DPDPair>();
@@ -126,7 +167,7 @@ void shardlow_sweep(System &sys) {
         double const mu = mi * mj / (mi + mj);
         double const mfac = dpd_mass_factor(mi, mj);
         Vector3d const e = d / r;
-        Vector3d const vij = ps.v[oi] - ps.v[oj];
+        Vector3d const vij = jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj];
         double const u = e * vij;
         Vector3d du{};
         if (w > 0. && p.radial.gamma > 0.) {
@@ -152,7 +193,7 @@ void shardlow_sweep(System &sys) {
         SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
         if (sp.active)
           surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise,
-                                       surface_friction_scale(sp, sf_shells, i, j));
+                                       surface_friction_scale(sp, sf_shells, i, j), jump ? &vjump : nullptr);
       }
 #endif
 #ifdef LUBRICATION
@@ -171,7 +212,7 @@ void shardlow_sweep(System &sys) {
         double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
         double const mu = mi * mj / (mi + mj);
         Vector3d const e = d / r;
-        double const u = e * (ps.v[oi] - ps.v[oj]);
+        double const u = e * (jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj]);
         OU const ou(Lubrication::friction(lp, h) * dt / mu, kT / mu);
         double const du = (ou.a - 1.) * u + ou.s * Lubrication::noise_weight(lp, h) * (e * xi_lub[s]);
         Vector3d const dp = (mu * du) * e;

@@ -170,10 +170,13 @@ inline void surface_friction_virial(ParticleStore const &ps, CellSystem const &c
  * so u_t' = a u_t + sqrt(kT/mu_t (1 - a^2)) sqrt(12) P xi, a = exp(-gamma w^2
  * dt/mu_t), and J = mu_t (u_t' - u_t) goes to i (-J to j) with the torques
  * -lam d x J. @p oi, @p oj are the owners (locals) of list entries i, j;
- * @p scale the shared-shell factor of gamma (surface_friction_scale()).
+ * @p scale the shared-shell factor of gamma (surface_friction_scale());
+ * @p v_jump (Lees-Edwards, one rank) the velocity jump of v_i - v_j across the
+ * shear plane (the owners' velocity difference plus it is the entries').
  */
 inline void surface_friction_pair_update(ParticleStore &ps, SurfaceFriction::Params const &p, int i, int j, int oi,
-                                         int oj, double kT, double dt, NoiseContext const &noise, double scale = 1.) {
+                                         int oj, double kT, double dt, NoiseContext const &noise, double scale = 1.,
+                                         Utils::Vector3d const *v_jump = nullptr) {
   if (scale <= 0.)
     return;
   Utils::Vector3d const d = ps.pos[i] - ps.pos[j];
@@ -189,8 +192,8 @@ inline void surface_friction_pair_update(ParticleStore &ps, SurfaceFriction::Par
       1. / mi + 1. / mj + r2 * (p.lam1 * p.lam1 * detail::inv_inertia(ps, oi) + p.lam2 * p.lam2 * detail::inv_inertia(ps, oj));
   double const mu = 1. / inv_mu;
   Utils::Vector3d const e = d / r;
-  Utils::Vector3d const u =
-      SurfaceFriction::contact_velocity(p, d, ps.v[oi] - ps.v[oj], detail::spin(ps, oi), detail::spin(ps, oj));
+  Utils::Vector3d const vij = v_jump ? ps.v[oi] - ps.v[oj] + *v_jump : ps.v[oi] - ps.v[oj];
+  Utils::Vector3d const u = SurfaceFriction::contact_velocity(p, d, vij, detail::spin(ps, oi), detail::spin(ps, oj));
   Utils::Vector3d const ut = u - (e * u) * e;
   double const a = std::exp(-p.gamma * scale * w * w * dt * inv_mu);
   Utils::Vector3d du = (a - 1.) * ut;

@@ -160,9 +160,6 @@ void System::check_scene_before_run() const {
     else if (m_colloids.any())
       why = "marble colloids are not supported (their neighbour search uses plain periodic images)";
 #endif
-    else if (m_integrator == IntegratorKind::Shardlow)
-      why = "the Shardlow integrator is not supported (its sweep uses the owners' velocities "
-            "without the shear velocity jump); use integrator.set_vv() or set_dpd_vv()";
     else if (m_integrator == IntegratorKind::BrownianDynamics)
       why = "Brownian dynamics is not supported; use a velocity Verlet integrator";
     else if (!m_box.periodic(n) || !m_box.periodic(sd))
