@@ -12,12 +12,14 @@ eta = -<P_xy> / rate with P = kinetic + conservative + DPD pair stress
 (pressure_tensor()'s 'total' + 'dpd'), errors by blocking; the mean velocity
 profile is fitted to check the imposed rate.
 
-Integration: velocity Verlet (Shardlow is not supported with Lees-Edwards) at
-dt = 0.005 (the explicit lubrication friction of close colloid pairs needs a
-smaller step than Shardlow's 0.01; the stability check refuses a too large one).
+Integration: Shardlow (the DPD, lubrication and surface-friction pairs
+updated exactly in the sweep, across the shear plane with the shear velocity
+jump) at dt = 0.01 by default; --vv uses velocity Verlet at dt = 0.005 (the
+explicit lubrication friction of close colloid pairs needs the smaller step;
+the stability check refuses a too large one).
 
     build/pymarble samples/lees_edwards_suspension.py [--box 8 8 8] [--rate 0.05]
-        [--phi 0.1] [--time 200]
+        [--phi 0.1] [--time 200] [--vv] [--dt DT]
 
 With MARBLE_SAMPLE_TEST=1 (a smoke test) it uses a 6 x 6 x 6 box and 2 time
 units per scene (the numbers are then noise).
@@ -36,7 +38,7 @@ R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
-def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip"):
+def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True):
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
@@ -53,7 +55,10 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip"):
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, k=1.0, r_cut=1.0)
         s.thermostat.set_dpd(kT=KT, seed=seed)
         info = {"n_colloids": 0}
-    s.integrator.set_vv()
+    if shardlow:
+        s.integrator.set_shardlow()
+    else:
+        s.integrator.set_vv()
     v = np.asarray(s.part.all().v)
     s.part.all().v = v - v.mean(axis=0)
     s.integrator.run(int(round(equil / dt)))
@@ -104,7 +109,9 @@ def main():
     ap.add_argument("--rate", type=float, default=0.05)
     ap.add_argument("--phi", type=float, default=0.1)
     ap.add_argument("--time", type=float, default=200.0)
-    ap.add_argument("--dt", type=float, default=0.005)
+    ap.add_argument("--dt", type=float, default=None,
+                    help="time step (default 0.01 with Shardlow, 0.005 with --vv)")
+    ap.add_argument("--vv", action="store_true", help="velocity Verlet instead of Shardlow")
     ap.add_argument("--boundary", choices=["slip", "stick"], default="slip",
                     help="setup_suspension's colloid surface (slip: seed 004's colloid; stick: section 7c/7d)")
     ap.add_argument("--seed", type=int, default=11)
@@ -112,6 +119,8 @@ def main():
                     help="use this solvent viscosity and error instead of measuring it")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
     args = ap.parse_args()
+    if args.dt is None:
+        args.dt = 0.005 if args.vv else 0.01
     if os.environ.get("MARBLE_SAMPLE_TEST"):
         args.box, args.time = [6.0, 6.0, 6.0], 2.0
     results = {}
@@ -119,7 +128,7 @@ def main():
     if args.eta0:
         results[0.0] = tuple(args.eta0)
     for phi in runs:
-        s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary,
+        s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
@@ -131,7 +140,8 @@ def main():
             with open(args.json, "a") as f:
                 f.write(json.dumps(dict(phi=info.get("phi", 0.0), phi_nominal=phi, boundary=args.boundary if phi else "solvent",
                                         n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
-                                        time=args.time, dt=args.dt, seed=args.seed, eta=eta, eta_err=err,
+                                        time=args.time, dt=args.dt,
+                                        integrator="vv" if args.vv else "shardlow", seed=args.seed, eta=eta, eta_err=err,
                                         slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
