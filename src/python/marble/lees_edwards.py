@@ -101,12 +101,13 @@ def _axis(name, value):
 class LeesEdwards:
     """``system.lees_edwards``: Lees-Edwards boundary conditions of the box.
 
-    Supported: one MPI rank, velocity Verlet and DPD-VV with the DPD (and
+    Supported: one MPI rank, velocity Verlet, DPD-VV and Shardlow (its sweep
+    adds the shear velocity jump to pairs across the plane) with the DPD (and
     Langevin) thermostat and every pair kernel of the main pair list; the
     pressure tensor and energies use the same images. Refused at run time
     (RuntimeError naming the reason): several MPI ranks, an SRD solvent,
-    marble colloids (and large-range types), the Shardlow integrator, Brownian
-    dynamics, a non-periodic shear direction or normal."""
+    marble colloids (and large-range types), Brownian dynamics, a
+    non-periodic shear direction or normal."""
 
     def __init__(self, system):
         self._system = system
