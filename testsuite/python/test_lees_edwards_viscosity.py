@@ -2,7 +2,7 @@
 """A sheared DPD fluid under Lees-Edwards boundary conditions
 (marble.lees_edwards, doc/lees-edwards.md): Groot-Warren water (rho = 3,
 a = 25, gamma = 4.5, w_D = (1 - r)^2, kT = 1, dt = 0.01) in an 8 x 8 x 8 box
-sheared at rate 0.3 (shear velocity 2.4 across L_y = 8), 70 time units
+sheared at rate 0.3 (shear velocity 2.4 across L_y = 8), 700 time units
 (a 6 x 8 x 6 box reads ~2-4 % lower, doc/lees-edwards.md):
 (a) the mean velocity profile is linear (chi^2 of a line through 16 bin
     means) with the imposed rate (within 3 error bars of the fitted slope);
@@ -50,7 +50,7 @@ def test_sheared_dpd_fluid_viscosity():
     n_bins = 16
     edges = np.linspace(0, L[1], n_bins + 1)
     pxy, prof, kts = [], [], []
-    for _ in range(7000):  # 70 time units
+    for _ in range(7000):  # 700 time units
         s.integrator.run(10)
         pt = s.analysis.pressure_tensor()
         p = pt["total"] + pt["dpd"]
@@ -67,7 +67,7 @@ def test_sheared_dpd_fluid_viscosity():
     prof = np.array(prof)
     # (a) linear profile with the imposed rate: fit slope over the bin means
     yc = 0.5 * (edges[1:] + edges[:-1])
-    # blocks up to 70/8 time units: longer than the slowest profile mode's
+    # blocks up to 700/8 time units: longer than the slowest profile mode's
     # relaxation time rho (L / 2 pi)^2 / eta ~ 6
     means, errs = zip(*(block_average(prof[:, k], min_blocks=8) for k in range(n_bins)))
     means, errs = np.array(means), np.array(errs)
