@@ -18,6 +18,9 @@ import pytest
 import marble
 import marble.lees_edwards as le
 
+# the soft potential these tests use for a list range and for forces to compare
+needs_hat = pytest.mark.skipif(not marble.has_features("HAT"), reason="needs the HAT feature")
+
 
 def le_mi(d, L, off, s=0, n=1):
     """Lees-Edwards minimum image of d = a - b (image of b nearest to a)."""
@@ -33,6 +36,7 @@ def le_mi(d, L, off, s=0, n=1):
 
 # --- (1) kinematics ---------------------------------------------------------
 
+@needs_hat
 def test_crossing_jumps():
     L = np.array([5.0, 6.0, 7.0])
     s = marble.System(box_l=L)
@@ -110,6 +114,7 @@ def numpy_hat(s, F_max=3.0, rc=1.4, s_dir=0, n_dir=1):
     return f, u, vir
 
 
+@needs_hat
 @pytest.mark.parametrize("offset,axes", [(1.3, ("x", "y")), (101.77, ("x", "y")),
                                          (-2.45, ("z", "x")), (0.6, ("y", "z"))])
 def test_forces_energy_virial_match_numpy(offset, axes):
@@ -129,6 +134,7 @@ def test_forces_energy_virial_match_numpy(offset, axes):
     np.testing.assert_allclose(s.distance_vec(p0, p1), d, atol=1e-12)
 
 
+@needs_hat
 def test_offset_drift_rebuilds_lists():
     """Particles held fixed, images moving 0.03 per step (shear velocity 6):
     only the offset drift can trigger the list rebuilds (every ~10 steps for
@@ -145,6 +151,7 @@ def test_offset_drift_rebuilds_lists():
     assert s._core.n_rebuilds() - r0 >= 6
 
 
+@needs_hat
 @pytest.mark.parametrize("large", ["auto", [1], None])
 def test_two_types_large_range(large):
     """Big particles (type 1, pair ranges 3.0 among them and 2.0 to the small
@@ -299,6 +306,7 @@ def test_shardlow_kernels_across_plane_match_plain_pair():
     assert np.linalg.norm(np.asarray(a1.omega_lab) - wa) > 1e-3
 
 
+@needs_hat
 def test_checkpoint_keeps_state():
     s = soft_scene(1.3, shear_velocity=0.8)
     s.integrator.run(10)

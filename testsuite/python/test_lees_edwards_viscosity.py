@@ -22,10 +22,13 @@ Errors: blocking analysis (marble.viscosity.block_average). ~35 s (VV) and
 0.0008, eta 0.873 +/- 0.012. `python3 test_lees_edwards_viscosity.py vv
 shardlow` prints both."""
 import numpy as np
+import pytest
 
 import marble
 import marble.lees_edwards as le
 from marble.viscosity import block_average
+
+pytestmark = pytest.mark.skipif(not marble.has_features("HAT"), reason="Groot-Warren water needs the HAT feature")
 
 ETA_RP, ETA_RP_ERR = 0.846, 0.010  # doc/dpd.md, pooled reverse Poiseuille of GW water
 
