@@ -140,6 +140,12 @@ public:
   /** The current Lees-Edwards state (offset, shear velocity) for the ghost
    * updates; rebuild() takes it from the box. */
   void set_lees_edwards(LeesEdwardsBC const &le) { m_le = le; }
+  /** Lees-Edwards: how many box lengths along the shear-plane normal the image
+   * at list entry @p k is shifted (its velocity carries k times the shear
+   * velocity); 0 for locals and without Lees-Edwards images. */
+  int le_crossings(int k, int n_local) const {
+    return m_le_images && k >= n_local ? m_le_k[static_cast<std::size_t>(k - n_local)] : 0;
+  }
   /** |offset - offset at the last build| (0 without Lees-Edwards images):
    * how far the images across the shear plane moved since the list build. */
   double le_drift(double pos_offset) const {

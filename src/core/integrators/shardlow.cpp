@@ -72,26 +72,20 @@ struct OU {
 // frame, so it goes to the owners unchanged.
 struct LEJump {
   bool on = false;
-  int normal = 0, dir = 0;
-  double L_n = 1., vs = 0.;
-  explicit LEJump(System const &sys) {
+  int dir = 0;
+  double vs = 0.;
+  CellSystem const *cells = nullptr;
+  explicit LEJump(System &sys) {
     auto const &le = sys.box().lees_edwards();
     if (!le.active())
       return;
     on = true;
-    normal = le.shear_plane_normal;
     dir = le.shear_direction;
-    L_n = sys.box().length()[normal];
     vs = le.shear_velocity;
+    cells = &sys.cells();
   }
   /** The jump of entry k along the shear direction (0 for locals). */
-  double operator()(ParticleStore const &ps, int k) const {
-    int const nl = ps.n_local();
-    if (k < nl)
-      return 0.;
-    double const kn = std::round(ps.ghost_shift[k - nl][normal] / L_n);
-    return kn * vs;
-  }
+  double operator()(ParticleStore const &ps, int k) const { return cells->le_crossings(k, ps.n_local()) * vs; }
   /** The jump of v_i - v_j for the pair (i, j) of list entries. */
   Vector3d pair(ParticleStore const &ps, int i, int j) const {
     Vector3d w{0., 0., 0.};
