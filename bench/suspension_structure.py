@@ -338,7 +338,7 @@ def report_eta(tab):
 
 
 def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, single=False, far=1.0, dr=0.05,
-                    extra=0.0):
+                    extra=0.0, solvent_count="exact"):
     """The solvent around the colloids at rest: the bead density against the distance
     r - a from the nearest colloid centre (a the core radius; shell volumes by Monte
     Carlo), the density beyond ``far`` from every core surface ("bulk") and the excess
@@ -348,7 +348,8 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
     viscosity scene (samples/suspension_viscosity.py, calibrated stick colloids,
     exact solvent count). ``extra``: beads per colloid added after the setup as
     bench/suspension_stick_viscosity.py --extra-solvent does (then 20 time units at
-    rest). Returns a dict."""
+    rest). ``solvent_count``: setup_suspension's ("exact", or "bulk": the exact
+    count plus the adsorbed beads). Returns a dict."""
     import os
     import sys
     import marble
@@ -362,58 +363,24 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
         s.time_step = 0.01
         s.cell_system.skin = 0.4
         info = sus.setup_suspension(s, phi=0.05, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=seed,
-                                    positions=[[L / 2] * 3], boundary="stick", solvent_count="exact")
+                                    positions=[[L / 2] * 3], boundary="stick", solvent_count=solvent_count)
         s.integrator.set_shardlow()
         s.integrator.run(2000)
     else:
         box = np.asarray(box, float)
-        s, info = sample.scene(phi, box, seed=seed, equil=20.0, boundary="stick", solvent_count="exact")
+        s, info = sample.scene(phi, box, seed=seed, equil=20.0, boundary="stick",
+                              solvent_count=solvent_count)
     a = info["core_radius"]
     added = sample.add_extra_solvent(s, info, box, extra, seed)  # as --extra-solvent
     if added is not None:
         info = dict(info, solvent_ids=np.concatenate([info["solvent_ids"], np.asarray(added.id)]))
         s.integrator.run(2000)
-    V = float(np.prod(box))
-    col = s.part.by_ids(info["colloid_ids"])
-    sol = s.part.by_ids(info["solvent_ids"])
-    rng = np.random.default_rng(1)
-    edges = np.arange(-0.1, far + 1.0 + 1e-9, dr)
-    cnt = np.zeros(len(edges) - 1)
-    vol = np.zeros(len(edges) - 1)
-    n_far, v_far, near_n, near_v = [], [], 0.0, 0.0
-
-    def dist(x, cp):
-        dm = np.full(len(x), np.inf)
-        for c in cp:
-            d = x - c
-            d -= box * np.round(d / box)
-            dm = np.minimum(dm, np.linalg.norm(d, axis=1))
-        return dm - a
-
-    steps = int(round(every / s.time_step))
-    for _ in range(frames):
-        s.integrator.run(steps)
-        cp = np.mod(np.asarray(col.pos, float), box)
-        hb = dist(np.mod(np.asarray(sol.pos, float), box), cp)
-        hx = dist(rng.uniform(0, 1, (100000, 3)) * box, cp)
-        cnt += np.histogram(hb, bins=edges)[0]
-        vol += np.histogram(hx, bins=edges)[0] / len(hx) * V
-        n_far.append(np.count_nonzero(hb > far))
-        v_far.append(np.count_nonzero(hx > far) / len(hx) * V)
-        near_n += np.count_nonzero(hb <= far)
-        near_v += np.count_nonzero((hx <= far) & (hx > 0)) / len(hx) * V
-    n_far, v_far = np.array(n_far, float), np.array(v_far)
-    bulk = float(n_far.sum() / v_far.sum())
-    # error of the bulk density from 10 blocks of frames
-    bl = [n_far[b].sum() / v_far[b].sum() for b in np.array_split(np.arange(frames), 10)]
-    bulk_err = float(np.std(bl, ddof=1) / math.sqrt(10))
-    n_col = info["n_colloids"]
-    excess = (near_n - bulk * near_v) / frames / n_col
-    return dict(phi=info["phi"], core_radius=a, n_colloids=n_col, n_solvent=len(info["solvent_ids"]),
-                nominal_density=len(info["solvent_ids"]) / (V - n_col * 4.0 / 3.0 * math.pi * a ** 3),
-                bulk_density=bulk, bulk_density_err=bulk_err, far=far, excess_per_colloid=float(excess),
-                h=(0.5 * (edges[1:] + edges[:-1])).tolist(), density=(cnt / np.maximum(vol, 1e-12)).tolist(),
-                single=single, seed=seed, frames=frames, extra=extra)
+    r = sus.solvent_structure(s, info, frames=frames, every=every, far=far, dr=dr, seed=1)
+    return dict(phi=info["phi"], core_radius=a, n_colloids=r["n_colloids"], n_solvent=r["n_solvent"],
+                nominal_density=r["nominal_density"], bulk_density=r["bulk_density"],
+                bulk_density_err=r["bulk_density_err"], far=far, excess_per_colloid=r["excess_per_colloid"],
+                h=r["h"], density=r["density"],
+                single=single, seed=seed, frames=frames, extra=extra, solvent_count=solvent_count)
 
 
 if __name__ == "__main__":
@@ -426,9 +393,11 @@ if __name__ == "__main__":
         ap.add_argument("--single", action="store_true", help="the single colloid of the drag calibration")
         ap.add_argument("--frames", type=int, default=100)
         ap.add_argument("--extra", type=float, default=0.0, help="beads per colloid added (--extra-solvent)")
+        ap.add_argument("--solvent-count", choices=["exact", "bulk"], default="exact")
         ap.add_argument("--json", help="append the result (a JSON line) to this file")
         a = ap.parse_args()
-        r = solvent_profile(a.phi, seed=a.seed, frames=a.frames, single=a.single, extra=a.extra)
+        r = solvent_profile(a.phi, seed=a.seed, frames=a.frames, single=a.single, extra=a.extra,
+                            solvent_count=a.solvent_count)
         print(f"phi {r['phi']:.4f}, {r['n_colloids']} colloid(s), core {r['core_radius']:.4f}, {r['n_solvent']} beads "
               f"(density {r['nominal_density']:.3f} in the free volume); bulk (farther than {r['far']} from every "
               f"core surface) {r['bulk_density']:.4f} +/- {r['bulk_density_err']:.4f}; excess beads per colloid "

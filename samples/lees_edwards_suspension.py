@@ -26,6 +26,7 @@ units per scene (the numbers are then noise).
 """
 import argparse
 import os
+import time
 
 import numpy as np
 
@@ -38,14 +39,14 @@ R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
-def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True):
+def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count="exact"):
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=seed, h_cut=1.0, solvent_count="exact", boundary=boundary,
+                                    seed=seed, h_cut=1.0, solvent_count=solvent_count, boundary=boundary,
                                     **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
         rng = np.random.default_rng(seed)
@@ -115,6 +116,10 @@ def main():
     ap.add_argument("--boundary", choices=["slip", "stick"], default="slip",
                     help="setup_suspension's colloid surface (slip: seed 004's colloid; stick: section 7c/7d)")
     ap.add_argument("--seed", type=int, default=11)
+    ap.add_argument("--solvent-count", choices=["exact", "bulk"], default="exact",
+                    help="exact: rho x free volume beads (the colloids' adsorbed shells then deplete the "
+                         "solvent between them, doc/suspensions.md 7e); bulk: plus the ~4 beads per colloid "
+                         "they adsorb, so the bulk solvent is at rho")
     ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
                     help="use this solvent viscosity and error instead of measuring it")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
@@ -129,7 +134,7 @@ def main():
         results[0.0] = tuple(args.eta0)
     for phi in runs:
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
-                        equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        solvent_count=args.solvent_count, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -142,7 +147,9 @@ def main():
                                         n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
                                         time=args.time, dt=args.dt,
                                         integrator="vv" if args.vv else "shardlow", seed=args.seed, eta=eta, eta_err=err,
-                                        slope=slope, slope_err=slope_err, kT=kt)) + "\n")
+                                        solvent_count=args.solvent_count if phi else "exact",
+                                        n_solvent=len(info["solvent_ids"]) if phi else None,
+                                        cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
     print(f"eta_r({args.phi}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "

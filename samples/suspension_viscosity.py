@@ -164,10 +164,12 @@ def main():
     parser.add_argument("--radius-calibration", default=None,
                         help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
                              "R/1.013, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
-    parser.add_argument("--solvent-count", choices=["exact", "poisson"], default="exact",
-                        help="solvent beads: exactly rho x free volume (default), or a Poisson number as "
+    parser.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default="exact",
+                        help="solvent beads: exactly rho x free volume (default), a Poisson number as "
                              "seed 004 (and doc/suspensions.md sections 7-7c): its density scatter between "
-                             "scenes shifts eta by several %% (section 7d)")
+                             "scenes shifts eta by several %% (section 7d), or 'bulk': the exact count plus "
+                             "the ~4 beads each colloid adsorbs, so the solvent between the colloids is at "
+                             "rho (section 7e)")
     parser.add_argument("--png", default="suspension_viscosity.png")
     args = parser.parse_args()
 

@@ -35,6 +35,15 @@ PHI_RCP = 0.64
 STICK_RADIUS_RATIO = 1.013
 STICK_RADIUS_RATIO_ERR = 0.010
 
+#: Solvent beads adsorbed per unit core area (beads within 1.0 of a core surface in
+#: excess of the bulk density), measured for seed 004's conservative forces
+#: (rho = 3, a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat; core
+#: radius 0.987): 4.3 beads around one colloid, 4.0 per colloid at phi = 0.1, 3.8
+#: at 0.2 (doc/suspensions.md section 7e). The dilute value 4.0 / (4 pi 0.987^2).
+#: Only the conservative forces set it (the DPD, lubrication and surface
+#: friction are dissipative and leave the equilibrium structure alone).
+ADSORBED_PER_AREA = 4.0 / (4.0 * math.pi * 0.987 ** 2)
+
 
 def equal_volume_cutoff(R, r_cut=1.0):
     """Centre-centre colloid-solvent cutoff (r_c^3 + R^3)^(1/3): the shell
@@ -125,7 +134,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                      log_term="off", morse=None, colloid_dpd=True,
                      solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
                      boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None,
-                     radius_calibration=None, solvent_count="poisson"):
+                     radius_calibration=None, solvent_count="poisson", adsorbed=None):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
@@ -136,7 +145,15 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       a Poisson number of draws with mean ``density V``, so the solvent density of
       a small box scatters between seeds (+/- 6 % for one colloid in L = 4.4,
       +/- 2.6 % in 7 x 7 x 10), and with it the viscosity; ``"exact"``:
-      exactly round(density x free volume) beads (doc/suspensions.md section 7d).
+      exactly round(density x free volume) beads (doc/suspensions.md section 7d);
+      ``"bulk"``: the exact count plus ``adsorbed`` beads per colloid, so that
+      the solvent between the colloids (farther than 1 from every core) is at
+      ``density`` once the colloids have adsorbed their shells (about 4 beads
+      each; with "exact" the bulk is depleted to 2.78 at phi = 0.2, section 7e).
+      ``adsorbed`` defaults to ADSORBED_PER_AREA x 4 pi a^2 (a the core radius;
+      4.00 at a = 0.987), measured for seed 004's conservative forces; with
+      another density, a_ss, a_cs, a_cs_rule or r_cut give ``adsorbed``
+      yourself (measure it with ``solvent_structure``).
     - Interactions (module doc): a_ss = 25 kT/r_c, the colloid-solvent hat
       F_max from ``colloid_solvent_repulsion(R, a_ss, r_c, a_cs_rule)`` unless
       ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
@@ -247,6 +264,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if log_term not in ("off", "on"):
         raise ValueError(f"parameter 'log_term' must be 'off' or 'on', got {log_term!r}")
     a_ss = 25.0 * kT / r_cut if a_ss is None else _positive("a_ss", a_ss, allow_zero=True)
+    a_cs_given = a_cs is not None
     if a_cs is None:
         a_cs = colloid_solvent_repulsion(R, a_ss, r_cut, a_cs_rule)
     a_cs = _positive("a_cs", a_cs, allow_zero=True)
@@ -288,8 +306,21 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if boundary == "stick":
         rinertia = 0.4 * m_col * R * R if rinertia is None else _positive("rinertia", rinertia)
     # solvent outside the cores
-    if solvent_count not in ("poisson", "exact"):
-        raise ValueError(f"parameter 'solvent_count' must be 'poisson' or 'exact', got {solvent_count!r}")
+    if solvent_count not in ("poisson", "exact", "bulk"):
+        raise ValueError(f"parameter 'solvent_count' must be 'poisson', 'exact' or 'bulk', got {solvent_count!r}")
+    n_adsorbed = 0
+    if solvent_count == "bulk":
+        if adsorbed is None:
+            if density != 3.0 or a_ss != 25.0 * kT / r_cut or r_cut != 1.0 or a_cs_given or a_cs_rule != "mean_field":
+                raise ValueError("parameter 'adsorbed' (beads adsorbed per colloid) is required for "
+                                 "solvent_count='bulk' unless the solvent is seed 004's (density 3, "
+                                 "a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat): measure it "
+                                 "with marble.suspensions.solvent_structure")
+            adsorbed = ADSORBED_PER_AREA * 4.0 * math.pi * R * R
+        adsorbed = _positive("adsorbed", adsorbed, allow_zero=True)
+        n_adsorbed = int(round(adsorbed * n_col))
+    elif adsorbed is not None:
+        raise ValueError("parameter 'adsorbed' applies to solvent_count='bulk' only")
 
     def outside_cores(n_try):
         x = rng.uniform(0, 1, size=(n_try, 3)) * L
@@ -302,7 +333,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         spos = outside_cores(int(rng.poisson(density * V)))
     else:
         v_free = V - n_col * v_col  # the cores do not overlap
-        n_want = int(round(density * v_free))
+        n_want = int(round(density * v_free)) + n_adsorbed
         spos = np.empty((0, 3))
         while len(spos) < n_want:
             spos = np.vstack([spos, outside_cores(int(1.1 * (n_want - len(spos)) * V / v_free) + 16)])
@@ -348,6 +379,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_user / V, radius=R_user,
                 core_radius=R, radius_ratio=ratio, radius_calibration=radius_calibration,
                 phi_core=n_col * v_col / V, hydrodynamic_radius=hydro, solvent_count=solvent_count,
+                adsorbed=adsorbed if solvent_count == "bulk" else None,
                 phi_hydrodynamic=None if hydro is None else n_col * 4.0 / 3.0 * math.pi * hydro ** 3 / V,
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
@@ -355,3 +387,69 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 diffusion_time=diffusion_time(R_user, eta, kT) if (eta and kT > 0) else math.inf,
                 boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia, shared=shared,
                 stick_shell=(rp if stick_shell is None else stick_shell) if boundary == "stick" else None)
+
+
+def solvent_structure(system, info, frames=100, every=1.0, far=1.0, dr=0.05, n_mc=100000, seed=1):
+    """Measure the solvent around the colloids of a ``setup_suspension`` scene.
+
+    Runs the system's integrator ``frames`` times for ``every`` time units and
+    after each run takes one frame: the bead density against the distance
+    h = r - a from the nearest core centre (a = ``info["core_radius"]``; shell
+    volumes by Monte Carlo with ``n_mc`` random points per frame, stream
+    ``seed``), the density of the "bulk" (farther than ``far`` from every core
+    surface) and the excess number of beads per colloid within ``far`` of a
+    surface relative to that bulk (the adsorbed beads: the ``adsorbed`` of
+    ``setup_suspension(solvent_count="bulk")``). Needs a cubic or orthorhombic
+    periodic box. Returns a dict: ``bulk_density`` and its error
+    ``bulk_density_err`` (10 blocks of frames), ``excess_per_colloid``,
+    ``nominal_density`` (beads / free volume), ``h`` and ``density`` (the
+    profile, bins of ``dr`` from -0.1 to far + 1)."""
+    frames = int(frames)
+    if frames < 10:
+        raise ValueError(f"parameter 'frames' must be >= 10 (the error uses 10 blocks), got {frames}")
+    every = _positive("every", every)
+    far = _positive("far", far)
+    dr = _positive("dr", dr)
+    if int(n_mc) < 1000:
+        raise ValueError(f"parameter 'n_mc' must be >= 1000, got {n_mc}")
+    box = np.asarray(system.box_l, float)
+    V = float(np.prod(box))
+    a = float(info["core_radius"])
+    col = system.part.by_ids(info["colloid_ids"])
+    sol = system.part.by_ids(info["solvent_ids"])
+    n_col = int(info["n_colloids"])
+    rng = np.random.default_rng(int(seed))
+    edges = np.arange(-0.1, far + 1.0 + 1e-9, dr)
+    cnt = np.zeros(len(edges) - 1)
+    vol = np.zeros(len(edges) - 1)
+    n_far, v_far = np.zeros(frames), np.zeros(frames)
+    near_n = near_v = 0.0
+
+    def gap(x, cp):
+        dm = np.full(len(x), np.inf)
+        for c in cp:
+            dm = np.minimum(dm, np.linalg.norm(_min_image(x - c, box), axis=1))
+        return dm - a
+
+    steps = max(1, int(round(every / system.time_step)))
+    for k in range(frames):
+        system.integrator.run(steps)
+        cp = np.mod(np.asarray(col.pos, float), box)
+        hb = gap(np.mod(np.asarray(sol.pos, float), box), cp)
+        hx = gap(rng.uniform(0, 1, (int(n_mc), 3)) * box, cp)
+        cnt += np.histogram(hb, bins=edges)[0]
+        vol += np.histogram(hx, bins=edges)[0] / len(hx) * V
+        n_far[k] = np.count_nonzero(hb > far)
+        v_far[k] = np.count_nonzero(hx > far) / len(hx) * V
+        near_n += np.count_nonzero(hb <= far)
+        near_v += np.count_nonzero((hx <= far) & (hx > 0)) / len(hx) * V
+    if v_far.sum() <= 0:
+        raise ValueError(f"no volume farther than far = {far} from every colloid: choose a smaller 'far'")
+    bulk = float(n_far.sum() / v_far.sum())
+    blocks = [n_far[b].sum() / max(v_far[b].sum(), 1e-300) for b in np.array_split(np.arange(frames), 10)]
+    bulk_err = float(np.std(blocks, ddof=1) / math.sqrt(10))
+    excess = (near_n - bulk * near_v) / frames / max(n_col, 1)
+    return dict(bulk_density=bulk, bulk_density_err=bulk_err, excess_per_colloid=float(excess), far=far,
+                nominal_density=len(info["solvent_ids"]) / (V - n_col * 4.0 / 3.0 * math.pi * a ** 3),
+                n_colloids=n_col, n_solvent=len(info["solvent_ids"]), core_radius=a, frames=frames,
+                h=(0.5 * (edges[1:] + edges[:-1])).tolist(), density=(cnt / np.maximum(vol, 1e-12)).tolist())
