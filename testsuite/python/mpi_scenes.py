@@ -65,6 +65,34 @@ def scene_suspension():
                    node_grid=np.array(s.cell_system.node_grid))
 
 
+def _suspension_stick(shared):
+    """Stick colloids (surface_friction with rotation, setup_suspension(boundary=
+    "stick")) with the shared-shell treatment ``shared``: a bead inside the
+    shells of colloids that live on different ranks must count all of them
+    ("split": gamma/n). 30 VV steps with noise, the two-grid split on N ranks."""
+    L = 9.0
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = 1e-3
+    s.cell_system.skin = 0.4
+    s.cell_system.large_range_types = None if marble.mpi_size() == 1 else "auto"
+    info = marble.suspensions.setup_suspension(s, phi=0.25, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
+                                               seed=6, h_cut=1.0, boundary="stick", shared=shared)
+    s.integrator.set_vv()
+    s.integrator.run(30)
+    parts = s.part.all()
+    col = s.part.by_ids(info["colloid_ids"])
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, comega=col.omega_lab,
+                   ctorque=col.torque_lab, node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_suspension_stick_split():
+    return _suspension_stick("split")
+
+
+def scene_suspension_stick_off():
+    return _suspension_stick("off")
+
+
 def scene_lj():
     """A Lennard-Jones fluid (VV without thermostat): energy conservation across ranks."""
     rng = np.random.default_rng(2)

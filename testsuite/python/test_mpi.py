@@ -96,6 +96,22 @@ def test_large_range_types_on_1_4_8_ranks():
         assert_same_trajectory(one, res, tol=1e-8)
 
 
+@needs("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "TRANS_DPD", "ROTATION")
+@pytest.mark.parametrize("shared", ["split", "off"])
+def test_stick_suspension_shared_shells_1_vs_2_and_4_ranks(shared):
+    """Stick colloids whose friction shells overlap (phi = 0.25): the "split"
+    and "off" treatments count every colloid around a bead, also those on
+    another rank (ghosts), so 2 and 4 ranks give the 1-rank trajectory."""
+    one = run(f"suspension_stick_{shared}", 1)
+    for n in (2, 4):
+        res = run(f"suspension_stick_{shared}", n)
+        assert res["node_grid"].prod() == n
+        assert_same_trajectory(one, res, tol=1e-8)
+        for key in ("comega", "ctorque"):
+            scale = max(1.0, np.abs(one[key]).max())
+            assert np.abs(res[key] - one[key]).max() / scale <= 1e-8, key
+
+
 @needs("MARBLE", "DPD")
 def test_particles_cross_domain_boundaries(marble_runs):
     # in 100 steps of a DPD fluid (thermal speed ~ 1) many beads change rank
