@@ -383,6 +383,43 @@ def solvent_profile(phi, seed=11, box=(7.0, 7.0, 10.0), frames=100, every=1.0, s
                 single=single, seed=seed, frames=frames, extra=extra, solvent_count=solvent_count)
 
 
+def kd_inverse(eta_r, phi_m=0.63):
+    """The volume fraction at which Krieger-Dougherty (1 - phi/phi_m)^(-2.5 phi_m) = eta_r."""
+    return phi_m * (1.0 - eta_r ** (-1.0 / (2.5 * phi_m)))
+
+
+def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.63):
+    """eta_r of the uniform-shear scenes (samples/lees_edwards_suspension.py --json),
+    grouped by (solvent count, phi): the weighted mean over seeds (error scaled by
+    sqrt(chi^2/dof) when chi^2 > dof, eta_0's error added), the theory (Batchelor
+    at phi < 0.15, else Krieger-Dougherty), and the effective radius R_eff / R =
+    (phi_eff / phi)^(1/3) for which Krieger-Dougherty gives the measured eta_r."""
+    rows = [json.loads(line) for f in files for line in open(f) if line.strip()]
+    groups = {}
+    for r in rows:
+        if r.get("phi_nominal", 0) == 0 or r.get("rate") != rate:
+            continue
+        variant = r.get("solvent_count", "exact") + ("" if r.get("lubrication", True) else ", no lubrication") + \
+            ("" if r.get("colloid_dpd", True) else ", no colloid DPD")
+        groups.setdefault((variant, r["phi_nominal"]), []).append(r)
+    out = []
+    for (count, pn), sel in sorted(groups.items()):
+        phi = sel[0]["phi"]
+        x = np.array([r["eta"] / eta0 for r in sel])
+        e = np.array([r["eta_err"] / eta0 for r in sel])
+        m, err, chi2, _ = weighted_mean(x, e)
+        err = math.hypot(err, m * eta0_err / eta0)
+        theory = 1 + 2.5 * phi + 6.2 * phi ** 2 if phi < 0.15 else (1 - phi / phi_m) ** (-2.5 * phi_m)
+        pe = [kd_inverse(v, phi_m) for v in (m - err, m, m + err)]
+        ratio = [(p / phi) ** (1.0 / 3.0) for p in pe]
+        out.append(dict(solvent_count=count, phi=phi, seeds=[r["seed"] for r in sel], eta_r=m, eta_r_err=err,
+                        chi2=chi2, per_seed=list(zip(x.tolist(), e.tolist())), theory=theory,
+                        deviation=m / theory - 1, deviation_err=err / theory, phi_eff=pe[1],
+                        radius_ratio=ratio[1], radius_ratio_err=0.5 * (ratio[2] - ratio[0]),
+                        cpu_s=[r.get("cpu_s") for r in sel]))
+    return out
+
+
 if __name__ == "__main__":
     import sys
     if len(sys.argv) > 1 and sys.argv[1] == "solvent":
@@ -407,6 +444,20 @@ if __name__ == "__main__":
         if a.json:
             with open(a.json, "a") as f:
                 f.write(json.dumps(dict(r, part="solvent")) + "\n")
+        sys.exit(0)
+    if len(sys.argv) > 1 and sys.argv[1] == "lees-edwards":
+        ap = argparse.ArgumentParser(description="eta_r table of the Lees-Edwards scenes, with the "
+                                     "Krieger-Dougherty effective radius")
+        ap.add_argument("cmd")
+        ap.add_argument("files", nargs="+", help="JSON-lines files of samples/lees_edwards_suspension.py --json")
+        ap.add_argument("--eta0", type=float, nargs=2, default=[0.3290, 0.0030])
+        a = ap.parse_args()
+        for r in lees_edwards_table(a.files, eta0=a.eta0[0], eta0_err=a.eta0[1]):
+            per = ", ".join(f"{v:.3f}({1000 * e:.0f}) ({sd})" for (v, e), sd in zip(r["per_seed"], r["seeds"]))
+            print(f"{r['solvent_count']} phi {r['phi']:.4f}: {per}; eta_r = {r['eta_r']:.3f} +/- "
+                  f"{r['eta_r_err']:.3f} (chi^2 {r['chi2']:.1f}/{len(r['seeds']) - 1}); theory {r['theory']:.3f}: "
+                  f"{100 * r['deviation']:+.1f} +/- {100 * r['deviation_err']:.1f} %; KD phi_eff {r['phi_eff']:.4f}, "
+                  f"R_eff/R = {r['radius_ratio']:.3f} +/- {r['radius_ratio_err']:.3f}")
         sys.exit(0)
     if len(sys.argv) > 1 and sys.argv[1] == "eta":
         ap = argparse.ArgumentParser(description="eta_r table of the calibrated stick scenes")

@@ -39,7 +39,8 @@ R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
-def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count="exact"):
+def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count="exact",
+          lubrication=True, colloid_dpd=True):
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
@@ -47,6 +48,7 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
                                     seed=seed, h_cut=1.0, solvent_count=solvent_count, boundary=boundary,
+                                    lubrication=lubrication, colloid_dpd=colloid_dpd,
                                     **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
         rng = np.random.default_rng(seed)
@@ -120,6 +122,10 @@ def main():
                     help="exact: rho x free volume beads (the colloids' adsorbed shells then deplete the "
                          "solvent between them, doc/suspensions.md 7e); bulk: plus the ~4 beads per colloid "
                          "they adsorb, so the bulk solvent is at rho")
+    ap.add_argument("--no-lubrication", action="store_true",
+                    help="without seed 004's squeeze lubrication kernel (the resolved solvent carries the "
+                         "near field of stick colloids: doc/suspensions.md section 7g)")
+    ap.add_argument("--no-colloid-dpd", action="store_true", help="without seed 004's colloid-colloid DPD")
     ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
                     help="use this solvent viscosity and error instead of measuring it")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
@@ -134,7 +140,8 @@ def main():
         results[0.0] = tuple(args.eta0)
     for phi in runs:
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
-                        solvent_count=args.solvent_count, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
+                        colloid_dpd=not args.no_colloid_dpd, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -148,6 +155,8 @@ def main():
                                         time=args.time, dt=args.dt,
                                         integrator="vv" if args.vv else "shardlow", seed=args.seed, eta=eta, eta_err=err,
                                         solvent_count=args.solvent_count if phi else "exact",
+                                        lubrication=not args.no_lubrication if phi else None,
+                                        colloid_dpd=not args.no_colloid_dpd if phi else None,
                                         n_solvent=len(info["solvent_ids"]) if phi else None,
                                         cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
