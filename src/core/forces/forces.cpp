@@ -97,9 +97,9 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
   // gather, noise, forces and scatter of the n selected pairs in bij / B.
-  // The gather, the noise and the forces run over n rounded up to a multiple
-  // of 8 (kPad), so no block ends in a scalar tail (a scalar Philox draw costs
-  // ~4x a lane of the SIMD one): the padding slots repeat the last selected
+  // With DPD the gather, the noise and the forces run over n rounded up to a
+  // multiple of 8 (kPad), so no block ends in a scalar tail (a scalar Philox
+  // draw costs ~4x a lane of the SIMD one): the padding slots repeat the last selected
   // pair (their d in B is whatever the select left there: finite), and only
   // the n real pairs are added up, so the forces are those of the n pairs,
   // bit for bit.
@@ -108,7 +108,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   auto process = [&](int n, bool long_runs) {
     if (n == 0)
       return;
-    int const np = (n + kPad - 1) / kPad * kPad;
+    int const np = dpd ? (n + kPad - 1) / kPad * kPad : n; // (no noise, no gather: no tail to save)
     for (int s = n; s < np; ++s)
       bij[s] = bij[n - 1];
     if (dpd) {
