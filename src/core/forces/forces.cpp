@@ -96,16 +96,29 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
   alignas(64) std::array<std::uint32_t, kPairBlock> lo, hi;
   alignas(64) std::array<double, kPairBlock> sign;
   Utils::PairNoiseKey const key(th.seed, static_cast<std::uint64_t>(DPDPair::salt), th.counter);
-  // gather, noise, forces and scatter of the n selected pairs in bij / B
+  // gather, noise, forces and scatter of the n selected pairs in bij / B.
+  // With DPD the gather, the noise and the forces run over n rounded up to a
+  // multiple of 8 (kPad), so no block ends in a scalar tail (a scalar Philox
+  // draw costs ~4x a lane of the SIMD one): the padding slots repeat the last selected
+  // pair (their d in B is whatever the select left there: finite), and only
+  // the n real pairs are added up, so the forces are those of the n pairs,
+  // bit for bit.
+  constexpr int kPad = 8;
+  static_assert(kSelectLimit + 4 + kPad <= kPairBlock);
   auto process = [&](int n, bool long_runs) {
+    if (n == 0)
+      return;
+    int const np = dpd ? (n + kPad - 1) / kPad * kPad : n; // (no noise, no gather: no tail to save)
+    for (int s = n; s < np; ++s)
+      bij[s] = bij[n - 1];
     if (dpd) {
-      pair_block_gather_dpd(bij.data(), n, vel4, pid, B, lo.data(), hi.data(), sign.data());
+      pair_block_gather_dpd(bij.data(), np, vel4, pid, B, lo.data(), hi.data(), sign.data());
       if constexpr (mass)
-        for (int s = 0; s < n; ++s)
+        for (int s = 0; s < np; ++s)
           B.m[s] = pair_mass_factor(ps, bij[s][0], bij[s][1]);
-      pair_noise_block_soa(key, n, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
+      pair_noise_block_soa(key, np, lo.data(), hi.data(), sign.data(), B.xx, B.xy, B.xz);
     }
-    pair_block_forces(sp, mass, n, B);
+    pair_block_forces(sp, mass, np, B);
     pair_block_scatter(bij.data(), n, B, f4, long_runs); // f_i += f, f_j -= f, pair by pair in list order
   };
   // the rows, read in place (r_i once per row), then the extra pairs
