@@ -440,10 +440,12 @@ def one_step_friction(X, dt, mass, kT=1.0, n_blocks=16):
     equipartition (<m X_k^2> = kT) instead of the measured <X^2>, which makes
     it ~5x more precise than ``short_time_friction`` (the impulses are nearly
     independent from step to step). Returns (rate, error), the error a
-    jackknife over ``n_blocks`` contiguous blocks. Measured (a = 2, M = 125,
-    8 seeds x 600 t0): 1.010 +/- 0.003 of ``kinetic_friction`` at the nominal
-    density for V and Omega, stochastic and rough rules, dt = 0.025 and 0.0125
-    (1.002 at the free-volume density; doc/srd.md "Short-time friction")."""
+    jackknife over ``n_blocks`` contiguous blocks. Measured (a = 2, M = 125
+    and 1000, 8 seeds each): 0.994-1.005 (+/- 0.002-0.005) of
+    ``kinetic_friction`` at the free-volume density and the fluid's measured
+    temperature, for V and Omega, stochastic and rough rules, dt = 0.025 and
+    0.0125 (1.005-1.013 at the nominal density 5 and kT = 1; doc/srd.md
+    "Short-time friction")."""
     X = np.asarray(X, dtype=float)
     if X.ndim != 2 or len(X) < 2 * n_blocks:
         raise ValueError(f"parameter 'X' must be an (n, d) series with n >= 2 n_blocks = {2 * n_blocks}, "
