@@ -12,9 +12,11 @@ equipartition of V and Omega.
 
     build/pymarble samples/srd_colloid.py                 # a = 2, L = 16, a few minutes
     build/pymarble samples/srd_colloid.py --rule rough    # seed 003's Enskog collision
+    build/pymarble samples/srd_colloid.py --a 3 --L 24 --eta 2.60   # M = 125 (a/2)^3: same colloid density
     MARBLE_SAMPLE_TEST=1 build/pymarble samples/srd_colloid.py   # quick check
 """
 import argparse
+import json
 import os
 import time
 
@@ -37,11 +39,17 @@ parser.add_argument("--v-rel", type=float, default=0.05, help="target relative v
 parser.add_argument("--eta", type=float, default=None,
                     help="viscosity for Hasimoto (default: the formula, 2.496; measured 2.60 +/- 0.03)")
 parser.add_argument("--coupling", default="pair", choices=["pair", "fixed_surface", "seed003"])
+parser.add_argument("--a", type=float, default=2.0, help="colloid radius")
+parser.add_argument("--M", type=float, default=None,
+                    help="colloid mass (default 125 (a/2)^3: the density of the a = 2, M = 125 colloid)")
+parser.add_argument("--warmup", type=float, default=50.0, help="equilibration time before sampling")
+parser.add_argument("--json", default=None, help="append the results as one JSON line to this file")
 args = parser.parse_args()
 
 quick = os.environ.get("MARBLE_SAMPLE_TEST") == "1"
 L = 8.0 if quick else args.L
-a, M, rho, kT, dt, tau, angle = 2.0, 125.0, 5, 1.0, args.dt, 0.1, 90.0
+a, rho, kT, dt, tau, angle = args.a, 5, 1.0, args.dt, 0.1, 90.0
+M = args.M if args.M is not None else 125.0 * (a / 2.0) ** 3
 t_prod = args.time or (5.0 if quick else 2000.0)
 eta = args.eta or srd.eta(rho, angle, tau)  # measured: 2.60 +/- 0.03 (doc/srd.md)
 D_h = hasimoto_D(eta, a, L, kT, "stick" if args.rule != "slip" else "slip")
@@ -58,9 +66,10 @@ col = srd.add_colloid(system, pos=[L / 2] * 3, radius=a, mass=M, type=1, rule=ar
 N = system.srd.n
 col.ext_force = [F, 0.0, 0.0]
 system.srd.acceleration = [-F / N, 0.0, 0.0]
-system.integrator.run(int(round((2.0 if quick else 50.0) / dt)))
+system.integrator.run(int(round((2.0 if quick else args.warmup) / dt)))
 
 t0 = time.time()
+c0 = time.process_time()
 every = 4
 tv = acc.TimeSeries(obs=obs.ParticleVelocities(ids=[col.id], system=system), delta_N=every)
 tw = acc.TimeSeries(obs=obs.ParticleAngularVelocities(ids=[col.id], system=system), delta_N=every)
@@ -79,9 +88,16 @@ D, D_err = kT * v_mean / F, kT * v_err / F
 e_v = block_average(mv2, min_blocks=8)
 e_w = block_average(iw2, min_blocks=8)
 print(f"rule {args.rule} ({args.coupling}), a = {a}, M = {M}, L = {L}, N = {N}, dt = {dt}, F = {F:.3f}, "
-      f"t = {t_prod}, wall {time.time() - t0:.1f} s")
+      f"t = {t_prod}, wall {time.time() - t0:.1f} s, CPU {time.process_time() - c0:.1f} s")
 print(f"D (drag)                         = {D:.5f} +/- {D_err:.5f}")
 print(f"Hasimoto (eta = {eta:.3f})           = {D_h:.5f}   ratio {D / D_h:.3f}")
 print(f"kT/(M zeta_kin) + Hasimoto       = {D_par:.5f}   ratio {D / D_par:.3f}")
 print(f"<M V^2>/kT (y, z) = {e_v[0]:.3f} +/- {e_v[1]:.3f}, <I W^2>/kT = {e_w[0]:.3f} +/- {e_w[1]:.3f}")
+if args.json:
+    with open(args.json, "a") as f:
+        f.write(json.dumps(dict(rule=args.rule, coupling=args.coupling, a=a, M=M, L=L, N=N, dt=dt, seed=args.seed,
+                                F=F, v_rel=float(v_mean), time=t_prod, warmup=args.warmup, eta=eta, D=D, D_err=D_err,
+                                D_hasimoto=D_h, D_kinetic=kT / (M * zeta_kin), D_parallel=D_par,
+                                equipartition_V=list(e_v), equipartition_W=list(e_w),
+                                cpu_s=round(time.process_time() - c0, 1))) + "\n")
 assert np.isfinite(D)

@@ -317,6 +317,56 @@ def test_walled_channel_bounces_in_time_order(reverse):
     assert np.abs(np.asarray(c.v)).max() < 1e-6
 
 
+@pytest.mark.skipif(not marble.has_features("ROTATION", "MASS"), reason="needs ROTATION, MASS")
+@pytest.mark.parametrize("coupling", ["fixed_surface", "seed003"])
+@pytest.mark.parametrize("wall_rule", ["slip", "stochastic"])
+def test_end_of_step_bounce_respects_walls(coupling, wall_rule):
+    """The end-of-step colloid rule (the couplings fixed_surface and seed003,
+    and the pair coupling's fallback for a particle the events did not
+    foresee; doc/srd.md) puts a particle found inside a colloid onto its
+    surface and streams it half a step with the new velocity. Next to a wall
+    that half step may cross the wall: the particle must then be reflected by
+    the wall rule, not left outside the channel (before: it ended at
+    z = -0.05, folded to the far side of the box, z = 7.95). A slip colloid
+    0.05 above the lower wall; one particle that enters it from below."""
+    dt, a, L = 0.1, 1.5, 8.0
+    centre = np.array([4.0, 4.0, 1.55])
+    x0, v0 = np.array([3.9, 4.0, 0.02]), np.array([1.0, 0.0, 2.0])
+    s = make(L=L, dt=dt, tau=1.0, wall_axis=2, wall_rule=wall_rule)
+    s.cell_system.skin = 0.5
+    c = srd.add_colloid(s, pos=list(centre), radius=a, mass=1e9, type=1, rule="slip", coupling=coupling)
+    n = len(s.srd.ids)
+    pos = np.tile([7.5, 7.5, 6.0], (n, 1)) + np.linspace(0, 1, n)[:, None] * [0, 0, 1]
+    vel = np.zeros((n, 3))
+    pos[0], vel[0] = x0, v0
+    s.srd.pos, s.srd.v = pos, vel
+    pid = s.srd.ids[0]
+    s.integrator.run(1)
+    k = int(np.flatnonzero(s.srd.ids == pid)[0])
+    x1, v1 = s.srd.pos[k], s.srd.v[k]
+    # seed 003's rule in numpy: half a step back, radially onto the surface,
+    # specular (slip) about the normal, half a step on: that crosses z = 0
+    d = x0 + dt * v0 - centre - 0.5 * dt * v0
+    nrm = d / np.linalg.norm(d)
+    contact = centre + a * nrm
+    vn = v0 - 2 * (v0 @ nrm) * nrm
+    assert contact[2] + 0.5 * dt * vn[2] < 0  # the scene does test the wall
+    assert 0.0 <= x1[2] < 0.5  # in the channel, near the lower wall
+    lo, hi = map(np.asarray, s.srd.momentum_to_walls())
+    assert lo[2] < 0 and np.linalg.norm(hi) == 0  # the particle was pushed off the lower wall
+    assert v1[2] > 0
+    if wall_rule == "slip":  # the exact flight: the rest of the half step mirrored at z = 0
+        t_w = -contact[2] / vn[2]
+        xw = contact + t_w * vn
+        vr = vn * [1, 1, -1]
+        np.testing.assert_allclose(x1, xw + (0.5 * dt - t_w) * vr, atol=1e-12)
+        np.testing.assert_allclose(v1, vr, atol=1e-12)
+        np.testing.assert_allclose(lo, [0, 0, 2 * vn[2]], atol=1e-12)
+    # momentum: particle + wall + colloid
+    P = v1 + lo + hi + np.asarray(s.srd.momentum_to_colloids())
+    np.testing.assert_allclose(P, v0, atol=1e-9)
+
+
 @pytest.mark.parametrize("rule", ["stochastic", "bounce_back", "slip"])
 def test_walls_confine_and_conserve_momentum(rule):
     s = make(L=6.0, wall_axis=1, wall_rule=rule, wall_velocity_lo=[0.3, 0, 0.1],

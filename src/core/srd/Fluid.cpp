@@ -402,9 +402,12 @@ struct WallGeom {
 };
 // The new velocity of a particle with velocity v0 hitting the lower (lo) or
 // upper wall in its bounce-th wall bounce of the step (noise keyed by
-// (seed, step, pid, 2 + bounce / 8 + bounce)).
+// (seed, step, pid, key_base + 2 + bounce / key_base + 8 + bounce); key_base
+// 0 for the flight between the walls, kFallbackWallKeys for the half step
+// after an end-of-step colloid bounce).
+constexpr std::uint64_t kFallbackWallKeys = 64;
 Vector3d wall_rule(WallGeom const &g, std::uint64_t step, std::uint64_t pid, int bounce, bool lo,
-                   Vector3d const &v0) {
+                   Vector3d const &v0, std::uint64_t key_base = 0) {
   int const a = g.a;
   Vector3d nrm{};
   nrm[a] = lo ? 1. : -1.; // into the fluid
@@ -413,8 +416,8 @@ Vector3d wall_rule(WallGeom const &g, std::uint64_t step, std::uint64_t pid, int
   Vector3d const vr = v0 - vw;
   double const vrn = vr * nrm;
   if (g.rule == BoundaryRule::stochastic) {
-    auto const gs = gauss4(g.seed, Utils::RNGSalt::srd_wall, step, pid, 2 + bounce);
-    auto const u = Utils::philox_4x64(g.seed, Utils::RNGSalt::srd_wall, step, pid, 8 + bounce);
+    auto const gs = gauss4(g.seed, Utils::RNGSalt::srd_wall, step, pid, key_base + 2 + bounce);
+    auto const u = Utils::philox_4x64(g.seed, Utils::RNGSalt::srd_wall, step, pid, key_base + 8 + bounce);
     vn = vw + (g.sig * std::sqrt(-2. * std::log(unit_open0(u[0])))) * nrm;
     int const t1 = (a + 1) % 3, t2 = (a + 2) % 3;
     vn[t1] += g.sig * gs[0];
@@ -432,7 +435,7 @@ constexpr int kMaxWallBounces = 4; // per particle and step
 // v') is called after each wall bounce (t: time within the step).
 template <class OnBounce>
 void wall_flight(WallGeom const &g, std::uint64_t step, std::uint64_t pid, double dt, Vector3d &x, Vector3d &v,
-                 Vector3d &to_lo, Vector3d &to_hi, double &vmax, OnBounce &&on_bounce) {
+                 Vector3d &to_lo, Vector3d &to_hi, double &vmax, OnBounce &&on_bounce, std::uint64_t key_base = 0) {
   int const a = g.a;
   double const z0 = g.z0, z1 = g.z1;
   double t_left = dt;
@@ -445,7 +448,7 @@ void wall_flight(WallGeom const &g, std::uint64_t step, std::uint64_t pid, doubl
     x += tc * v;
     x[a] = lo ? z0 : std::nextafter(z1, z0);
     t_left -= tc;
-    Vector3d const vn = wall_rule(g, step, pid, bounce, lo, v);
+    Vector3d const vn = wall_rule(g, step, pid, bounce, lo, v, key_base);
     (lo ? to_lo : to_hi) += g.m * (v - vn);
     v = vn;
     vmax = std::max(vmax, vn.norm()); // the colloid search's displacement bound
@@ -1081,8 +1084,32 @@ void Fluid::stream(System &s, double dt) {
     if (h.rank != me)
       continue;
     int const i = h.index;
+    Vector3d const x_end = pos[i]; // where the step left it: h.d = x_end - R (minimum image)
     v[i] = vn;
     pos[i] = c.R + arm + (0.5 * dt) * (pair ? vn - c.V : vn);
+    if (m_p.wall_axis >= 0) {
+      // Walled channel: the half step after the bounce must not take the
+      // particle through a wall (a colloid near a wall; the walls are not
+      // periodic, so follow it in its own image). Only if it would, the half
+      // step is streamed again by the wall flight (exact crossing, the wall
+      // rule with noise counters of its own), so scenes where it would not
+      // keep their bits.
+      int const a = m_p.wall_axis;
+      double const z0 = wall_lo(), z1 = wall_hi(L[a]);
+      Vector3d x = x_end - h.d + arm; // the contact point, colloid at its end-of-step place
+      if (pair)
+        x -= (0.5 * dt) * c.V; // ... at the middle of the step (the pair rule's frame)
+      double const z = x[a] + 0.5 * dt * vn[a];
+      if (!(z >= z0 && z < z1)) {
+        x[a] = std::clamp(x[a], z0, std::nextafter(z1, z0)); // a colloid reaching past a wall
+        WallGeom const wg_fb{a, z0, z1, std::sqrt(m_p.kT / m_p.mass), m_p.mass,
+                             static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
+        Vector3d vv = vn;
+        wall_flight(wg_fb, step, pid, 0.5 * dt, x, vv, momentum_to_wall_lo, momentum_to_wall_hi, m_vmax,
+                    [](double, Vector3d const &, Vector3d const &) {}, kFallbackWallKeys);
+        pos[i] = x, v[i] = vv;
+      }
+    }
     fold(pos[i], L);
   }
   for (std::size_t j = 0; j < cols.size(); ++j) {
