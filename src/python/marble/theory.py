@@ -320,7 +320,7 @@ SQUEEZE_NEAR_FIELD_CONSTANT = 1.3456
 
 def two_sphere_squeeze_lubrication(xi, terms="all"):
     """Near-field (lubrication) form of two_sphere_squeeze_resistance (Jeffrey &
-    Onishi 1984, eq. 3.17 with beta = 1: g1 = 1/4, g2 = 9/40, g3 = 3/112, and
+    Onishi 1984, their near-field form at beta = 1: g1 = 1/4, g2 = 9/40, g3 = 3/112, and
     X^A_12 = -X^A_11 in the singular terms):
 
         lambda ~ 1/(2 xi) + (9/20) ln(1/xi) + (3/56) xi ln(1/xi) + C,
