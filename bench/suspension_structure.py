@@ -400,6 +400,7 @@ def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.6
         if r.get("phi_nominal", 0) == 0 or r.get("rate") != rate:
             continue
         variant = r.get("solvent_count", "exact") + ("" if r.get("lubrication", True) else ", no lubrication") + \
+            ("" if r.get("h_cut", 1.0) in (None, 1.0) else f", h_cut {r['h_cut']}") + \
             ("" if r.get("colloid_dpd", True) else ", no colloid DPD")
         groups.setdefault((variant, r["phi_nominal"]), []).append(r)
     out = []

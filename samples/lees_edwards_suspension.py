@@ -40,14 +40,14 @@ SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
 def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count="exact",
-          lubrication=True, colloid_dpd=True):
+          lubrication=True, colloid_dpd=True, h_cut=1.0):
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=seed, h_cut=1.0, solvent_count=solvent_count, boundary=boundary,
+                                    seed=seed, h_cut=h_cut, solvent_count=solvent_count, boundary=boundary,
                                     lubrication=lubrication, colloid_dpd=colloid_dpd,
                                     **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
@@ -126,6 +126,9 @@ def main():
                     help="without seed 004's squeeze lubrication kernel (the resolved solvent carries the "
                          "near field of stick colloids: doc/suspensions.md section 7g)")
     ap.add_argument("--no-colloid-dpd", action="store_true", help="without seed 004's colloid-colloid DPD")
+    ap.add_argument("--h-cut", type=float, default=1.0,
+                    help="the lubrication kernel's range on the core gap (default 1.0 = r_c; section 7g suggests "
+                         "~0.13 for stick colloids, whose resolved solvent carries the squeeze resistance above it)")
     ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
                     help="use this solvent viscosity and error instead of measuring it")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
@@ -141,7 +144,7 @@ def main():
     for phi in runs:
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
-                        colloid_dpd=not args.no_colloid_dpd, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        colloid_dpd=not args.no_colloid_dpd, h_cut=args.h_cut, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -157,6 +160,7 @@ def main():
                                         solvent_count=args.solvent_count if phi else "exact",
                                         lubrication=not args.no_lubrication if phi else None,
                                         colloid_dpd=not args.no_colloid_dpd if phi else None,
+                                        h_cut=args.h_cut if phi else None,
                                         n_solvent=len(info["solvent_ids"]) if phi else None,
                                         cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
