@@ -201,23 +201,8 @@ if args.from_raw:
     info = dict(h_min=0.001, h_cut=1.0)
 else:
     t_cpu0 = time.process_time()
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = args.dt
-    s.cell_system.skin = 0.4
-    c0 = 0.5 * L
-    r0 = 2 * R + args.h_hi
-    pos = [[c0 - 0.5 * r0, c0, c0], [c0 + 0.5 * r0, c0, c0]]
-    info = sus.setup_suspension(s, phi=0.01, radius=R, kT=KT, gamma=GAMMA, eta=ETA_KERNEL, seed=args.seed,
-                                positions=pos, boundary="stick", solvent_count="exact",
-                                lubrication=False, colloid_dpd=False)
+    s, info, col = new_pair_system(2 * R + args.h_hi)
     a = info["core_radius"]
-    col = s.part.by_ids(info["colloid_ids"])
-    col.mass = [M_BIG, M_BIG]
-    col.rinertia = np.full((2, 3), M_BIG)
-    col.omega_lab = np.zeros((2, 3))
-    col.v = np.zeros((2, 3))
-    s.integrator.set_shardlow()
-    s.integrator.run(int(round(args.equil / args.dt)))
 
     step_gap = 2 * args.U * k * args.dt   # gap change per chunk
     period = 2 * (args.h_hi - args.h_lo) / (2 * args.U)

@@ -285,6 +285,20 @@ def _slip_flight(x, v, t, centre, a):
         hits.append(("wall" if tw < ts else "sphere", t_now))
 
 
+def _one_particle_step(s, x0, v0):
+    """Put SRD particle 0 at x0 with velocity v0 and the others at rest, parked
+    on a line at (7.5, 7.5, 6-7) out of the way; run one step; return that
+    particle's position and velocity."""
+    n = len(s.srd.ids)
+    pos = np.tile([7.5, 7.5, 6.0], (n, 1)) + np.linspace(0, 1, n)[:, None] * [0, 0, 1]
+    vel = np.zeros((n, 3))
+    pos[0], vel[0] = x0, v0
+    s.srd.pos, s.srd.v = pos, vel
+    pid = s.srd.ids[0]
+    s.integrator.run(1)
+    k = int(np.flatnonzero(s.srd.ids == pid)[0])
+    return s.srd.pos[k], s.srd.v[k]
+
 @pytest.mark.skipif(not marble.has_features("ROTATION", "MASS"), reason="needs ROTATION, MASS")
 @pytest.mark.parametrize("reverse", [False, True])
 def test_walled_channel_bounces_in_time_order(reverse):
@@ -304,16 +318,9 @@ def test_walled_channel_bounces_in_time_order(reverse):
     s = make(L=8.0, dt=dt, tau=1.0, wall_axis=2, wall_rule="slip")
     s.cell_system.skin = 0.5
     c = srd.add_colloid(s, pos=list(centre), radius=a, mass=1e9, type=1, rule="slip")
-    n = len(s.srd.ids)
-    pos = np.tile([7.5, 7.5, 6.0], (n, 1)) + np.linspace(0, 1, n)[:, None] * [0, 0, 1]
-    vel = np.zeros((n, 3))
-    pos[0], vel[0] = x0, v0
-    s.srd.pos, s.srd.v = pos, vel
-    pid = s.srd.ids[0]
-    s.integrator.run(1)
-    k = int(np.flatnonzero(s.srd.ids == pid)[0])
-    np.testing.assert_allclose(s.srd.pos[k], x1, atol=1e-6)
-    np.testing.assert_allclose(s.srd.v[k], v1, atol=1e-6)
+    x, v = _one_particle_step(s, x0, v0)
+    np.testing.assert_allclose(x, x1, atol=1e-6)
+    np.testing.assert_allclose(v, v1, atol=1e-6)
     assert np.abs(np.asarray(c.v)).max() < 1e-6
 
 
@@ -335,15 +342,7 @@ def test_end_of_step_bounce_respects_walls(coupling, wall_rule):
     s = make(L=L, dt=dt, tau=1.0, wall_axis=2, wall_rule=wall_rule)
     s.cell_system.skin = 0.5
     c = srd.add_colloid(s, pos=list(centre), radius=a, mass=1e9, type=1, rule="slip", coupling=coupling)
-    n = len(s.srd.ids)
-    pos = np.tile([7.5, 7.5, 6.0], (n, 1)) + np.linspace(0, 1, n)[:, None] * [0, 0, 1]
-    vel = np.zeros((n, 3))
-    pos[0], vel[0] = x0, v0
-    s.srd.pos, s.srd.v = pos, vel
-    pid = s.srd.ids[0]
-    s.integrator.run(1)
-    k = int(np.flatnonzero(s.srd.ids == pid)[0])
-    x1, v1 = s.srd.pos[k], s.srd.v[k]
+    x1, v1 = _one_particle_step(s, x0, v0)
     # seed 003's rule in numpy: half a step back, radially onto the surface,
     # specular (slip) about the normal, half a step on: that crosses z = 0
     d = x0 + dt * v0 - centre - 0.5 * dt * v0
