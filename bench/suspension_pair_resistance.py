@@ -44,6 +44,7 @@ import numpy as np
 import marble
 import marble.suspensions as sus
 from marble import theory
+from marble.accumulators import fft_correlate
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_common import machine_info  # noqa: E402
@@ -118,12 +119,8 @@ def new_pair_system(r0):
 def gk_integral(f, tau, t_max):
     """int_0^t_max <f(t) f(0)> dt from chunk means f (mean removed), exact for chunk
     averages: (tau/2) [c_0 + 2 sum_{1<=j<=m} c_j]."""
-    f = f - f.mean()
-    n = len(f)
-    m = int(round(t_max / tau))
-    nf = 1 << int(np.ceil(np.log2(2 * n)))
-    F = np.fft.rfft(f, nf)
-    c = np.fft.irfft(F * np.conj(F), nf)[:m + 1] / (n - np.arange(m + 1))
+    f = np.asarray(f, dtype=float)
+    c = fft_correlate((f - f.mean())[:, None], max_lag=int(round(t_max / tau)))[:, 0]
     return 0.5 * tau * (c[0] + 2 * np.sum(c[1:]))
 
 

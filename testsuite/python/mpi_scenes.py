@@ -45,16 +45,22 @@ def scene_marble_big():
     return scene_marble(L=8.0, R=3.0, steps=100)
 
 
+def _suspension_box():
+    """The suspension scenes' box (L = 9, dt 1e-3): one cell grid on one rank,
+    the colloids' large-range grid on N."""
+    s = marble.System(box_l=[9.0] * 3)
+    s.time_step = 1e-3
+    s.cell_system.skin = 0.4
+    s.cell_system.large_range_types = None if marble.mpi_size() == 1 else "auto"
+    return s
+
+
 def scene_suspension():
     """Colloids whose pairs reach farther than the solvent's (a large-range
     cell grid of their own, cells/CellSystem.hpp): they come to the other
     ranks from all sides, the solvent in a half shell. 20 VV steps with DPD
     noise; on one rank without the split (one grid), on N with it."""
-    L = 9.0
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = 1e-3
-    s.cell_system.skin = 0.4
-    s.cell_system.large_range_types = None if marble.mpi_size() == 1 else "auto"
+    s = _suspension_box()
     marble.suspensions.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
                                         seed=4, h_cut=1.0)
     s.integrator.set_vv()
@@ -70,11 +76,7 @@ def _suspension_stick(shared):
     "stick")) with the shared-shell treatment ``shared``: a bead inside the
     shells of colloids that live on different ranks must count all of them
     ("split": gamma/n). 30 VV steps with noise, the two-grid split on N ranks."""
-    L = 9.0
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = 1e-3
-    s.cell_system.skin = 0.4
-    s.cell_system.large_range_types = None if marble.mpi_size() == 1 else "auto"
+    s = _suspension_box()
     info = marble.suspensions.setup_suspension(s, phi=0.25, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
                                                seed=6, h_cut=1.0, boundary="stick", shared=shared)
     s.integrator.set_vv()

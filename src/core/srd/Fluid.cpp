@@ -400,6 +400,13 @@ struct WallGeom {
   Vector3d v_lo, v_hi;
   std::uint64_t seed;
 };
+// The channel walls of fluid f in a box of edges L (f has walls: wall_axis >= 0).
+WallGeom wall_geom(Fluid const &f, Vector3d const &L) {
+  auto const &p = f.params();
+  int const a = p.wall_axis;
+  return {a, f.wall_lo(), f.wall_hi(L[a]), std::sqrt(p.kT / p.mass), p.mass,
+          static_cast<BoundaryRule>(p.wall_rule), p.wall_v_lo, p.wall_v_hi, p.seed};
+}
 // The new velocity of a particle with velocity v0 hitting the lower (lo) or
 // upper wall in its bounce-th wall bounce of the step (noise keyed by
 // (seed, step, pid, key_base + 2 + bounce / key_base + 8 + bounce); key_base
@@ -506,8 +513,7 @@ void Fluid::stream(System &s, double dt) {
   WallGeom wg{};
   if (wall_events) {
     int const a = m_p.wall_axis;
-    wg = WallGeom{a, wall_lo(), wall_hi(L[a]), std::sqrt(m_p.kT / m_p.mass), m_p.mass,
-                  static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
+    wg = wall_geom(*this, L);
     if (static_cast<int>(m_wslot.size()) != n)
       m_wslot.assign(static_cast<std::size_t>(n), -1);
     for (int i = 0; i < n; ++i) {
@@ -1094,16 +1100,15 @@ void Fluid::stream(System &s, double dt) {
       // step is streamed again by the wall flight (exact crossing, the wall
       // rule with noise counters of its own), so scenes where it would not
       // keep their bits.
-      int const a = m_p.wall_axis;
-      double const z0 = wall_lo(), z1 = wall_hi(L[a]);
+      WallGeom const wg_fb = wall_geom(*this, L);
+      int const a = wg_fb.a;
+      double const z0 = wg_fb.z0, z1 = wg_fb.z1;
       Vector3d x = x_end - h.d + arm; // the contact point, colloid at its end-of-step place
       if (pair)
         x -= (0.5 * dt) * c.V; // ... at the middle of the step (the pair rule's frame)
       double const z = x[a] + 0.5 * dt * vn[a];
       if (!(z >= z0 && z < z1)) {
         x[a] = std::clamp(x[a], z0, std::nextafter(z1, z0)); // a colloid reaching past a wall
-        WallGeom const wg_fb{a, z0, z1, std::sqrt(m_p.kT / m_p.mass), m_p.mass,
-                             static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
         Vector3d vv = vn;
         wall_flight(wg_fb, step, pid, 0.5 * dt, x, vv, momentum_to_wall_lo, momentum_to_wall_hi, m_vmax,
                     [](double, Vector3d const &, Vector3d const &) {}, kFallbackWallKeys);
@@ -1128,8 +1133,7 @@ void Fluid::stream(System &s, double dt) {
 // Channel walls at x[a] = 0 and L: exact crossing time (planes are cheap),
 // the boundary rule in the frame of the wall, the rest of the step streamed.
 void Fluid::walls(std::uint64_t step, double dt, Vector3d const &L) {
-  WallGeom const g{m_p.wall_axis, wall_lo(), wall_hi(L[m_p.wall_axis]), std::sqrt(m_p.kT / m_p.mass),
-                   m_p.mass, static_cast<BoundaryRule>(m_p.wall_rule), m_p.wall_v_lo, m_p.wall_v_hi, m_p.seed};
+  WallGeom const g = wall_geom(*this, L);
   for (int i = 0; i < size(); ++i)
     wall_flight(g, step, static_cast<std::uint64_t>(id[i]), dt, pos[i], v[i], momentum_to_wall_lo,
                 momentum_to_wall_hi, m_vmax, [](double, Vector3d const &, Vector3d const &) {});

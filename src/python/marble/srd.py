@@ -418,15 +418,12 @@ def short_time_friction(X, dt, n_lags=1, n_blocks=16, order=1):
         return -np.polyfit(lag, np.log(c / c[0]), order)[-2]
 
     all_blocks = np.ones(n_blocks, dtype=bool)
-    full = rate(all_blocks)
     jack = []
     for b in range(n_blocks):
         sel = all_blocks.copy()
         sel[b] = False
         jack.append(rate(sel))
-    jack = np.array(jack)
-    err = np.sqrt((n_blocks - 1) / n_blocks * np.sum((jack - jack.mean()) ** 2))
-    return float(full), float(err)
+    return float(rate(all_blocks)), _jackknife_error(jack)
 
 
 def one_step_friction(X, dt, mass, kT=1.0, n_blocks=16):
@@ -461,7 +458,12 @@ def one_step_friction(X, dt, mass, kT=1.0, n_blocks=16):
         x = mass * total / (count * dim) / (2.0 * kT)
         return -np.log1p(-x) / dt if x < 1 else np.inf
 
-    full = rate(sums.sum(), nb * n_blocks)
-    jack = np.array([rate(sums.sum() - sums[b], nb * (n_blocks - 1)) for b in range(n_blocks)])
-    err = np.sqrt((n_blocks - 1) / n_blocks * np.sum((jack - jack.mean()) ** 2))
-    return float(full), float(err)
+    jack = [rate(sums.sum() - sums[b], nb * (n_blocks - 1)) for b in range(n_blocks)]
+    return float(rate(sums.sum(), nb * n_blocks)), _jackknife_error(jack)
+
+
+def _jackknife_error(jack):
+    """Jackknife error from the estimates with one block left out each."""
+    jack = np.asarray(jack, dtype=float)
+    n = len(jack)
+    return float(np.sqrt((n - 1) / n * np.sum((jack - jack.mean()) ** 2)))

@@ -251,10 +251,7 @@ def carnahan_starling_contact(phi):
 # for equal spheres, 3 pi (a1 + a2) = 6 pi a).
 
 def _two_sphere_alpha(xi):
-    xi = np.asarray(xi, dtype=float)
-    if np.any(~np.isfinite(xi)) or np.any(xi <= 0):
-        raise ValueError(f"parameter 'xi' (gap over radius) must be a finite number > 0, got {xi}")
-    return np.arccosh(1.0 + 0.5 * xi)
+    return np.arccosh(1.0 + 0.5 * _pos("xi", xi))
 
 
 def _bispherical_sum(alpha, term):
@@ -329,9 +326,7 @@ def two_sphere_squeeze_lubrication(xi, terms="all"):
     leading term 1/(2 xi) alone (Reynolds' squeeze film, the lubrication kernel's
     (3 pi/2) eta a^2/h for the relative velocity 2U); "log": plus (9/20) ln(1/xi)
     (Ball & Melrose's, the kernel's log_term="on" for equal spheres)."""
-    xi = np.asarray(xi, dtype=float)
-    if np.any(~np.isfinite(xi)) or np.any(xi <= 0):
-        raise ValueError(f"parameter 'xi' (gap over radius) must be a finite number > 0, got {xi}")
+    xi = _pos("xi", xi)
     if terms not in ("reynolds", "log", "all"):
         raise ValueError(f"parameter 'terms' must be 'reynolds', 'log' or 'all', got {terms!r}")
     lam = 0.5 / xi
