@@ -196,6 +196,43 @@ def test_bad_input_changes_nothing():
     assert s.srd.n_collisions == 2
 
 
+@pytest.mark.skipif(not marble.has_features("SRD", "ROTATION", "MASS"), reason="missing ROTATION or MASS")
+@pytest.mark.parametrize("walls", [False, True])
+def test_add_fluid_at_free_volume_density(walls):
+    """volume="free": the colloids added first are subtracted, so the free
+    volume holds the density exactly (counted here from the particles outside
+    the spheres, independently of the volume sum); "box" overfills it by the
+    displaced particles; a bad value changes nothing."""
+    L, rho, radii = 12.0, 5.0, {1: 2.0, 2: 1.5}
+    counts = {}
+    for volume in ("box", "free"):
+        s = marble.System(box_l=[L] * 3, time_step=0.1)
+        kw = dict(wall_axis=2, wall_positions=(1.0, 11.0)) if walls else {}
+        s.srd = srd.SRDFluid(types=[0], tau=0.1, angle=90, kT=1.0, seed=5, **kw)
+        centres = {1: [[3.0, 3.0, 6.0]], 2: [[8.0, 8.0, 4.0], [8.0, 3.0, 8.0]]}
+        for t, cs in centres.items():
+            for c in cs:
+                srd.add_colloid(s, pos=c, radius=radii[t], type=t)
+        if volume == "free":
+            with pytest.raises(ValueError, match="volume"):
+                srd.add_fluid(s, density=rho, type=0, volume="shell")
+            assert s.srd.n == 0
+        n = srd.add_fluid(s, density=rho, type=0, seed=6, volume=volume)
+        assert s.srd.n == n
+        inside = 0
+        for t, cs in centres.items():
+            for c in cs:
+                d = s.srd.pos - np.asarray(c)
+                d -= L * np.round(d / L)
+                inside += np.sum(np.linalg.norm(d, axis=1) < radii[t])
+        assert inside == 0
+        counts[volume] = n
+    height = 10.0 if walls else L
+    v_free = L * L * height - 4.0 / 3.0 * np.pi * (2.0 ** 3 + 2 * 1.5 ** 3)
+    assert counts["free"] == round(rho * v_free)
+    assert counts["box"] == round(rho * L * L * height)
+
+
 def test_theory_numbers():
     assert abs(srd.eta(5, 90, 0.1) - 2.496) < 5e-4
     assert abs(srd.eta(5, 130, 0.1) - 3.961) < 5e-4

@@ -174,22 +174,46 @@ def _attach(system, fluid):
     system.__dict__["_srd"] = fluid
 
 
-def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None):
+def colloid_volume(system, type=0):
+    """Total volume ``sum 4/3 pi a^3`` of the colloids present whose type has
+    an SRD boundary (``boundary(system, c, type)``) for SRD ``type``
+    (overlaps between colloids and with walls are not subtracted)."""
+    types = np.atleast_1d(np.asarray(system.part.all().type, dtype=int)) if len(system.part) else []
+    v = 0.0
+    for c, count in zip(*np.unique(types, return_counts=True)) if len(types) else []:
+        a = boundary(system, int(c), type).get_params().get("radius", 0.0)
+        v += count * 4.0 / 3.0 * np.pi * a ** 3
+    return v
+
+
+def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None, volume="box"):
     """Add ``density * volume`` (or ``n``) SRD particles of ``type``: uniform
     positions outside the colloids (between the walls, if any), Maxwellian velocities at ``kT`` with zero
-    total momentum. Returns the number added."""
+    total momentum. Returns the number added.
+
+    ``volume``: ``"box"`` (default) counts the whole box (the channel between
+    the walls, if any), so the colloids' displaced particles raise the density
+    of the free volume; ``"free"`` subtracts the volume of the colloids already
+    added (``colloid_volume``), so the free volume holds ``density`` exactly:
+    add the colloids first (colloids added later still displace particles)."""
     if getattr(system, "_srd", None) is None:
         raise RuntimeError("no SRD fluid: set system.srd = marble.srd.SRDFluid(...) first")
+    if volume not in ("box", "free"):
+        raise ValueError(f"parameter 'volume' must be 'box' or 'free', got {volume!r}")
     if n is None:
         density = float(density)
         if not np.isfinite(density) or density < 0:
             raise ValueError(f"parameter 'density' must be a finite number >= 0, got {density}")
-        volume = float(np.prod(system.box_l))
+        vol = float(np.prod(system.box_l))
         par = system._core.srd_get_params()
         if "wall_positions" in par:  # the channel between the walls
             lo, hi = par["wall_positions"]
-            volume *= (hi - lo) / system.box_l[par["wall_axis"]]
-        n = int(round(density * volume))
+            vol *= (hi - lo) / system.box_l[par["wall_axis"]]
+        if volume == "free":
+            vol -= colloid_volume(system, type)
+            if vol <= 0:
+                raise ValueError("parameter 'volume': the colloids fill the box, no free volume left")
+        n = int(round(density * vol))
     system._core.srd_add_particles(n, type, kT, seed)
     return n
 
