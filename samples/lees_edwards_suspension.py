@@ -2,8 +2,11 @@
 simple shear (doc/lees-edwards.md, doc/suspensions.md).
 
 The scene is built by marble.suspensions.setup_suspension (R = 1, rho = 3,
-kT = 0.1, gamma = 4.5, a_ss = 25 kT, squeeze lubrication eta0 = 0.3 with
-h_cut = 1, the soft contact of samples/suspension_viscosity.py) and sheared by
+kT = 0.1, gamma = 4.5, a_ss = 25 kT, squeeze lubrication eta0 = 0.3, the soft
+contact of samples/suspension_viscosity.py; the boundary's defaults: "slip" is
+seed 004's colloid with the plain kernel to h_cut = 1 and the colloid-colloid
+DPD, "stick" the shifted kernel to h_cut = 0.15, no colloid-colloid DPD and the
+"bulk" solvent count, doc/suspensions.md 7i) and sheared by
 Lees-Edwards boundary conditions (LinearShear in x across y): a uniform shear
 rate over the whole box, so colloids cannot migrate to a low-shear region and
 no profile fit mixes shear rates, unlike reverse Poiseuille flow. The pure
@@ -19,7 +22,12 @@ explicit lubrication friction of close colloid pairs needs the smaller step;
 the stability check refuses a too large one).
 
     build/pymarble samples/lees_edwards_suspension.py [--box 8 8 8] [--rate 0.05]
-        [--phi 0.1] [--time 200] [--vv] [--dt DT]
+        [--phi 0.1] [--time 200] [--vv] [--dt DT] [--boundary stick]
+        [--no-lubrication] [--no-colloid-dpd | --colloid-dpd] [--h-cut H]
+        [--lubrication-form plain|shifted] [--solvent-count exact|bulk]
+
+Options left out take setup_suspension's default for the boundary (for "slip"
+the solvent count is "exact", as in this sample before).
 
 With MARBLE_SAMPLE_TEST=1 (a smoke test) it uses a 6 x 6 x 6 box and 2 time
 units per scene (the numbers are then noise).
@@ -39,8 +47,14 @@ R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
-def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count="exact",
-          lubrication=True, colloid_dpd=True, h_cut=1.0):
+def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count=None,
+          lubrication=True, colloid_dpd=None, h_cut=None, lubrication_form=None):
+    """The scene at volume fraction ``phi`` (0: the solvent alone), ``equil`` time
+    units at rest. None for ``solvent_count``, ``colloid_dpd``, ``h_cut`` and
+    ``lubrication_form``: setup_suspension's default for ``boundary``, except
+    that the solvent count of "slip" is "exact" (this sample's). Returns (system, info)."""
+    if solvent_count is None and boundary == "slip":
+        solvent_count = "exact"
     box = np.asarray(box, dtype=float)
     s = marble.System(box_l=box)
     s.time_step = dt
@@ -49,6 +63,7 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
                                     seed=seed, h_cut=h_cut, solvent_count=solvent_count, boundary=boundary,
                                     lubrication=lubrication, colloid_dpd=colloid_dpd,
+                                    lubrication_form=lubrication_form,
                                     **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
         rng = np.random.default_rng(seed)
@@ -118,17 +133,24 @@ def main():
     ap.add_argument("--boundary", choices=["slip", "stick"], default="slip",
                     help="setup_suspension's colloid surface (slip: seed 004's colloid; stick: section 7c/7d)")
     ap.add_argument("--seed", type=int, default=11)
-    ap.add_argument("--solvent-count", choices=["exact", "bulk"], default="exact",
-                    help="exact: rho x free volume beads (the colloids' adsorbed shells then deplete the "
+    ap.add_argument("--solvent-count", choices=["exact", "bulk"], default=None,
+                    help="default: exact for slip, setup_suspension's bulk for stick; exact: rho x free volume beads (the colloids' adsorbed shells then deplete the "
                          "solvent between them, doc/suspensions.md 7e); bulk: plus the ~4 beads per colloid "
                          "they adsorb, so the bulk solvent is at rho")
     ap.add_argument("--no-lubrication", action="store_true",
                     help="without seed 004's squeeze lubrication kernel (the resolved solvent carries the "
                          "near field of stick colloids: doc/suspensions.md section 7g)")
-    ap.add_argument("--no-colloid-dpd", action="store_true", help="without seed 004's colloid-colloid DPD")
-    ap.add_argument("--h-cut", type=float, default=1.0,
-                    help="the lubrication kernel's range on the core gap (default 1.0 = r_c; section 7g suggests "
-                         "~0.13 for stick colloids, whose resolved solvent carries the squeeze resistance above it)")
+    dpd = ap.add_mutually_exclusive_group()
+    dpd.add_argument("--no-colloid-dpd", dest="colloid_dpd", action="store_false", default=None,
+                     help="without seed 004's colloid-colloid DPD (the default for stick)")
+    dpd.add_argument("--colloid-dpd", dest="colloid_dpd", action="store_true",
+                     help="with seed 004's colloid-colloid DPD (the default for slip)")
+    ap.add_argument("--h-cut", type=float, default=None,
+                    help="the lubrication kernel's range on the core gap (default setup_suspension's: 1.0 = r_c "
+                         "for slip and the plain form, 0.15 for stick's shifted form, doc/suspensions.md 7g/7i)")
+    ap.add_argument("--lubrication-form", choices=["plain", "shifted"], default=None,
+                    help="the lubrication kernel's form (default setup_suspension's: plain for slip, shifted, "
+                         "i.e. zero at h_cut, for stick)")
     ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
                     help="use this solvent viscosity and error instead of measuring it")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
@@ -144,7 +166,8 @@ def main():
     for phi in runs:
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
-                        colloid_dpd=not args.no_colloid_dpd, h_cut=args.h_cut, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        colloid_dpd=args.colloid_dpd, h_cut=args.h_cut, lubrication_form=args.lubrication_form,
+                        equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -157,10 +180,11 @@ def main():
                                         n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
                                         time=args.time, dt=args.dt,
                                         integrator="vv" if args.vv else "shardlow", seed=args.seed, eta=eta, eta_err=err,
-                                        solvent_count=args.solvent_count if phi else "exact",
-                                        lubrication=not args.no_lubrication if phi else None,
-                                        colloid_dpd=not args.no_colloid_dpd if phi else None,
-                                        h_cut=args.h_cut if phi else None,
+                                        solvent_count=info["solvent_count"] if phi else "exact",
+                                        lubrication=info["lubrication"] if phi else None,
+                                        colloid_dpd=info["colloid_dpd"] if phi else None,
+                                        h_cut=info["h_cut"] if phi and info["lubrication"] else None,
+                                        lubrication_form=info["lubrication_form"] if phi else None,
                                         n_solvent=len(info["solvent_ids"]) if phi else None,
                                         cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]

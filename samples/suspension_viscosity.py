@@ -4,8 +4,10 @@ Krieger-Dougherty.
 
 Each scene is built by marble.suspensions.setup_suspension (R = 1, rho = 3,
 kT = 0.1, gamma = 4.5, a_ss = 25 kT, mean-field colloid-solvent repulsion,
-squeeze lubrication eta0 = 0.3 with h_cut = 1 on the gap, colloid mass
-rho 4/3 pi R^3) and sheared by a reverse Poiseuille flow
+squeeze lubrication eta0 = 0.3, colloid mass rho 4/3 pi R^3; the boundary's
+defaults of setup_suspension: "slip" is seed 004's colloid with the plain kernel
+to h_cut = 1 on the gap and the colloid-colloid DPD, "stick" the shifted kernel
+to h_cut = 0.15, no colloid-colloid DPD, doc/suspensions.md 7i) and sheared by a reverse Poiseuille flow
 (marble.viscosity.reverse_poiseuille with ``mass_proportional=True``: the same
 body acceleration on solvent beads and colloids, as a pressure gradient gives
 neutrally buoyant spheres). The pure solvent of the same box and settings gives
@@ -35,7 +37,8 @@ on one idle core.
 surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R = 1
 (core radius R/1.013, section 7d; ``--radius-calibration none`` builds the core R = 1
 as before); phi is then the hydrodynamic volume fraction and the cores' is printed
-too. The solvent has exactly rho x free volume beads (``--solvent-count poisson``: a
+too. The solvent has exactly rho x free volume beads for "slip" and the "bulk" count for
+"stick" (setup_suspension's stick default; ``--solvent-count poisson``: a
 Poisson number, as the runs of sections 7-7c; section 7d: the density scatter of a
 Poisson count shifts eta by several %, and eta_0 must be measured at the same density). The default "slip" is seed 004's colloid, whose central colloid-solvent
 friction makes it a slipping sphere (section 7b).
@@ -86,7 +89,7 @@ def scene(phi, box, dt=0.01, seed=11, equil=20.0, contact=None, **suspension_kw)
     s.cell_system.skin = 0.4
     if phi > 0:
         info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=ETA0,
-                                    seed=seed, h_cut=1.0, **contact, **suspension_kw)
+                                    seed=seed, **contact, **suspension_kw)
     else:  # the solvent alone: setup_suspension's solvent without the colloid
         count = suspension_kw.get("solvent_count", "poisson")
         # "exact": a point-sized placeholder colloid, so that no hole is cut from the solvent
@@ -164,12 +167,21 @@ def main():
     parser.add_argument("--radius-calibration", default=None,
                         help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
                              "R/1.013, doc/suspensions.md section 7d), 'none' (the core) or a ratio")
-    parser.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default="exact",
-                        help="solvent beads: exactly rho x free volume (default), a Poisson number as "
+    parser.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default=None,
+                        help="solvent beads: exactly rho x free volume (default for slip; stick: "
+                             "setup_suspension's default 'bulk'), a Poisson number as "
                              "seed 004 (and doc/suspensions.md sections 7-7c): its density scatter between "
                              "scenes shifts eta by several %% (section 7d), or 'bulk': the exact count plus "
                              "the ~4 beads each colloid adsorbs, so the solvent between the colloids is at "
                              "rho (section 7e)")
+    parser.add_argument("--lubrication-form", choices=["plain", "shifted"], default=None,
+                        help="the squeeze lubrication kernel's form (default setup_suspension's: plain for slip, "
+                             "shifted for stick, doc/suspensions.md 7i)")
+    parser.add_argument("--h-cut", type=float, default=None,
+                        help="the lubrication range on the core gap (default setup_suspension's: 1 for the plain "
+                             "form, 0.15 for stick's shifted form)")
+    parser.add_argument("--colloid-dpd", choices=["on", "off"], default=None,
+                        help="seed 004's colloid-colloid DPD (default setup_suspension's: on for slip, off for stick)")
     parser.add_argument("--png", default="suspension_viscosity.png")
     args = parser.parse_args()
 
@@ -177,6 +189,15 @@ def main():
     box = np.array(args.box, dtype=float)
     contact = {} if args.seed_contact else SOFT_CONTACT
     stick = dict(boundary=args.boundary)
+    if args.lubrication_form is not None:
+        stick["lubrication_form"] = args.lubrication_form
+    if args.h_cut is not None:
+        stick["h_cut"] = args.h_cut
+    if args.colloid_dpd is not None:
+        stick["colloid_dpd"] = args.colloid_dpd == "on"
+    # None: "exact" for slip (this sample's), setup_suspension's "bulk" for stick (the
+    # solvent-alone scene has no colloids, so its "bulk" count is the exact count)
+    count = args.solvent_count or ("bulk" if args.boundary == "stick" else "exact")
     if args.boundary == "stick":
         marble.assert_features("TRANS_DPD", "ROTATION")
         if args.trans_gamma is not None:
@@ -189,7 +210,7 @@ def main():
 
     def run(phi):
         s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,
-                        solvent_count=args.solvent_count, **(stick if phi > 0 else {}))
+                        solvent_count=count, **(stick if phi > 0 else {}))
         res = measure(s, args.g, args.time, equilibration=0.5 * args.equil if short else None)
         print(f"phi = {info['phi']:.4f} (cores {info['phi_core']:.4f}; {info['n_colloids']} colloids, "
               f"{len(s.part.all())} "

@@ -3,9 +3,11 @@
 fluctuation-dissipation consistent; doc/suspensions.md): the pair force
 against an independent implementation (friction and the counter-based noise
 of reference_noise.py) to 1e-12 at several gaps, equal and unequal radii, with
-and without the log term, both noise variants; zero from h_cut on; the noise
-variance along e and nothing across e; momentum conservation with noise in
-velocity Verlet and Shardlow; bad input."""
+and without the log term, both noise variants, both forms ("plain" and
+"shifted", zero at h_cut); zero from h_cut on; the shifted form's closed-form
+value and its continuity at h_cut; the noise variance along e and nothing
+across e; momentum conservation with noise in velocity Verlet and Shardlow;
+bad input."""
 import itertools
 import unittest
 
@@ -19,12 +21,17 @@ SALT_LUB = 16  # RNGSalt::lubrication
 DT = 0.004
 
 
-def a_sq(h, eta, a1, a2, h_cut, h_min=1e-3, log_term="off", noise="fdt"):
+def a_sq(h, eta, a1, a2, h_cut, h_min=1e-3, log_term="off", noise="fdt", form="plain"):
     he = max(h, h_min)
     a_red = a1 * a2 / (a1 + a2)
+    c = a1 * a2 * (a1 ** 2 + 7 * a1 * a2 + a2 ** 2) / (5 * (a1 + a2) ** 3)
+    if form == "shifted":  # minus the value at h_cut (log part from h_cut too)
+        a = a_red ** 2 * (1 / he - 1 / h_cut)
+        if log_term == "on":
+            a += c * np.log(h_cut / he)
+        return max(6 * np.pi * eta * a, 0.0)
     a = a_red ** 2 / he
     if log_term == "on":
-        c = a1 * a2 * (a1 ** 2 + 7 * a1 * a2 + a2 ** 2) / (5 * (a1 + a2) ** 3)
         a += c * np.log(0.5 * (a1 + a2) / he)
     return max(6 * np.pi * eta * a, 0.0)
 
@@ -54,7 +61,11 @@ def make_pair(prm, kT, x1, x2, v1, v2, ids=(3, 8), seed=5, counter=11, L=10.0):
 
 PARAMS = [dict(eta=0.3, a1=1.0, a2=1.0, h_cut=1.0),
           dict(eta=1.1, a1=1.0, a2=2.5, h_cut=0.6, h_min=0.01, log_term="on"),
-          dict(eta=0.7, a1=0.5, a2=1.5, h_cut=1.5, noise="seed")]
+          dict(eta=0.7, a1=0.5, a2=1.5, h_cut=1.5, noise="seed"),
+          dict(eta=0.3, a1=0.987, a2=0.987, h_cut=0.15, form="shifted"),  # setup_suspension's stick default
+          dict(eta=1.1, a1=1.0, a2=2.5, h_cut=0.6, h_min=0.01, log_term="on", form="shifted"),
+          dict(eta=0.7, a1=0.5, a2=1.5, h_cut=1.5, noise="seed", form="shifted")]
+SHIFTED = [p for p in PARAMS if p.get("form") == "shifted"]
 
 
 @skipIfMissingFeatures("LUBRICATION")
@@ -123,6 +134,57 @@ class Lubrication(unittest.TestCase):
             self.assertAlmostEqual(a_sq(h, **PARAMS[0]), 1.5 * np.pi * 0.3 / h, delta=1e-12 / h)
             f, e = self.check(PARAMS[0], h, 0.0)
 
+    def test_shifted_closed_form(self):
+        """form="shifted": a_sq = 6 pi eta [a_red^2 (1/h_e - 1/h_cut) + c_log ln(h_cut/h_e)],
+        written out here for each case (not through a_sq above), the kernel's force at
+        kT = 0 against it to 1e-12; it is the plain form minus its value at h_cut
+        (without the log term); zero at h_cut and beyond; continuous at h_cut (the
+        force at h_cut - eps is O(eps))."""
+        a = 0.987
+        for h in (0.0005, 0.001, 0.01, 0.05, 0.1, 0.149):
+            want = 6 * np.pi * 0.3 * (0.25 * a * a) * (1 / max(h, 1e-3) - 1 / 0.15)
+            self.assertAlmostEqual(a_sq(h, **SHIFTED[0]), want, delta=1e-12 * want)
+            plain = dict(SHIFTED[0], form="plain")
+            self.assertAlmostEqual(a_sq(h, **SHIFTED[0]), a_sq(h, **plain) - a_sq(0.15, **plain),
+                                   delta=1e-12 * want)
+        a1, a2 = 1.0, 2.5
+        c = a1 * a2 * (a1 ** 2 + 7 * a1 * a2 + a2 ** 2) / (5 * (a1 + a2) ** 3)
+        for h in (0.005, 0.01, 0.2, 0.59):
+            he = max(h, 0.01)
+            want = 6 * np.pi * 1.1 * ((a1 * a2 / (a1 + a2)) ** 2 * (1 / he - 1 / 0.6) + c * np.log(0.6 / he))
+            self.assertAlmostEqual(a_sq(h, **SHIFTED[1]), want, delta=1e-12 * want)
+        for prm in SHIFTED:
+            for h in (0.0005, 0.3 * prm["h_cut"], 0.9 * prm["h_cut"]):
+                with self.subTest(prm=prm, h=h):
+                    f, e = self.check(prm, h, 0.0)
+                    self.assertGreater(np.linalg.norm(f), 0.0)
+            # continuity: |F| at h_cut - eps against the slope of a_sq at h_cut
+            v = np.array([0.3, -0.2, 0.1])
+            hc = prm["h_cut"]
+            a1, a2 = prm["a1"], prm["a2"]
+            c = a1 * a2 * (a1 ** 2 + 7 * a1 * a2 + a2 ** 2) / (5 * (a1 + a2) ** 3)
+            slope = 6 * np.pi * prm["eta"] * ((a1 * a2 / (a1 + a2)) ** 2 / hc ** 2
+                                              + (c / hc if prm.get("log_term") == "on" else 0.0))
+            for eps in (1e-3, 1e-6):
+                x2 = np.array([4.0, 5.0, 5.5])
+                s, p1, _ = make_pair(prm, 0.0, x2 + [a1 + a2 + hc - eps, 0, 0], x2, v, -v)
+                # |F| = a_sq(h_cut - eps) |2 v_x| = slope eps |2 v_x| (1 + O(eps/h_cut))
+                self.assertAlmostEqual(np.linalg.norm(p1.f) / (slope * eps * 2 * abs(v[0])), 1.0,
+                                       delta=2 * eps / hc + 1e-6)
+            self.assertEqual(a_sq(hc, **prm), 0.0)
+
+    def test_form_params(self):
+        """"plain" is the default (seed 004's kernel unchanged); get_params round-trips the form."""
+        s, _, _ = make_pair(PARAMS[0], 1.0, [6.1, 5, 5], [4.0, 5, 5], [0] * 3, [0] * 3)
+        handle = s.non_bonded_inter[0, 0].lubrication
+        self.assertEqual(handle.get_params()["form"], "plain")
+        handle.set_params(**SHIFTED[1])
+        got = handle.get_params()
+        self.assertEqual(got["form"], "shifted")
+        self.assertEqual(got["log_term"], "on")
+        handle.set_params(**got)
+        self.assertEqual(handle.get_params(), got)
+
     def test_zero_beyond_cutoff(self):
         for prm in PARAMS:
             for h in (prm["h_cut"] + 1e-9, prm["h_cut"] + 0.01, prm["h_cut"] + 0.5):
@@ -146,7 +208,7 @@ class Lubrication(unittest.TestCase):
         # the variance of u^2 for uniform u is (1/80 - 1/144)/(1/12)^2 = 0.8 of var^2
         self.assertLess(abs(var / want - 1), 5 * np.sqrt(0.8 / len(f)))
 
-    def check_momentum(self, shardlow):
+    def check_momentum(self, shardlow, form="plain"):
         L, N = 12.0, 27
         rng = np.random.default_rng(12)
         s = marble.System(box_l=[L] * 3)
@@ -155,7 +217,7 @@ class Lubrication(unittest.TestCase):
         s.part.add(pos=grid + 0.2 * rng.random(grid.shape), v=rng.normal(size=(N, 3)),
                    mass=rng.choice([1.0, 4.0], size=N))
         s.non_bonded_inter[0, 0].lubrication.set_params(eta=0.5, a1=1.8, a2=1.8, h_cut=0.8,
-                                                        log_term="on")
+                                                        log_term="on", form=form)
         s.non_bonded_inter[0, 0].contact.set_params(f_contact=20.0, delta=0.05, offset=3.6)
         s.thermostat.set_dpd(kT=1.0, seed=3)
         if shardlow:
@@ -171,6 +233,11 @@ class Lubrication(unittest.TestCase):
     @skipIfMissingFeatures("CONTACT", "MASS")
     def test_momentum_shardlow(self):
         self.check_momentum(True)
+
+    @skipIfMissingFeatures("CONTACT", "MASS")
+    def test_momentum_shifted(self):
+        self.check_momentum(False, "shifted")
+        self.check_momentum(True, "shifted")
 
     def drainage(self, shardlow, dt):
         """kT = 0, two equal spheres approaching at u0: mu du = -(A/h) dh, so
@@ -228,7 +295,9 @@ class Lubrication(unittest.TestCase):
                  (dict(PARAMS[0], h_min=1.0), "h_min"),  # not below h_cut
                  (dict(PARAMS[0], h_cut=-0.5), "h_cut"),
                  (dict(PARAMS[0], a1=0.0), "a1"),
-                 (dict(PARAMS[0], noise="weak"), "noise")]
+                 (dict(PARAMS[0], noise="weak"), "noise"),
+                 (dict(PARAMS[0], form="linear"), "form"),
+                 (dict(PARAMS[0], form=1), "form")]
         for prm, key in cases:
             with self.subTest(key=key, prm=prm):
                 with self.assertRaisesRegex(ValueError, key):

@@ -125,8 +125,9 @@ class Setup(unittest.TestCase):
 
     def test_stick(self):
         """boundary="slip" is seed 004 (no spins, no surface friction); "stick" keeps
-        the positions and velocities and adds rotating colloids and the surface friction."""
-        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=3, h_cut=0.4)
+        the positions and velocities and adds rotating colloids and the surface friction
+        (with the same solvent count: the stick default "bulk" adds beads)."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=3, h_cut=0.4, solvent_count="poisson")
         s1, s2 = self.system(), self.system()
         i1 = sus.setup_suspension(s1, **kw)
         if not marble.has_features("TRANS_DPD", "ROTATION"):
@@ -155,14 +156,16 @@ class Setup(unittest.TestCase):
         colloid is built on the core a = radius / STICK_RADIUS_RATIO (offsets, equal-volume
         shell, solvent removal, mass, inertia, colloid-colloid kernels), phi counts spheres
         of the given radius; "none" is the uncalibrated colloid bit for bit; a number is
-        taken as the ratio."""
+        taken as the ratio. (Slip's solvent count and colloid DPD for both, so that the
+        solvent and the colloid-colloid DPD offset compare.)"""
         if not marble.has_features("TRANS_DPD", "ROTATION"):
             self.skipTest("needs TRANS_DPD and ROTATION")
         c = sus.STICK_RADIUS_RATIO
         self.assertGreater(c, 1.0)
         self.assertLess(c, 1.2)
         R = 1.2
-        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4)
+        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4, solvent_count="poisson",
+                  colloid_dpd=True)
         s0, s1, s2 = self.system(), self.system(), self.system()
         i0 = sus.setup_suspension(s0, **kw)  # slip: no calibration
         i1 = sus.setup_suspension(s1, boundary="stick", **kw)
@@ -242,6 +245,65 @@ class Setup(unittest.TestCase):
                     sus.setup_suspension(s, **dict(kw, **extra))
                 self.assertEqual(len(s.part.all()), 0)
                 self.assertFalse(s.thermostat.dpd.active)
+
+    def test_boundary_defaults(self):
+        """The defaults that depend on ``boundary`` (doc/suspensions.md 7i): slip is seed
+        004's (plain lubrication to h_cut = r_c, colloid-colloid DPD, Poisson count);
+        stick gets the shifted kernel to STICK_LUBRICATION_H_CUT, no colloid-colloid
+        DPD and the "bulk" count; explicit arguments win; the old stick settings given
+        explicitly build the same scene as slip's placement and kernels."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=3)
+        s0 = self.system()
+        i0 = sus.setup_suspension(s0, **kw)
+        lub = s0.non_bonded_inter[1, 1].lubrication.get_params()
+        self.assertEqual((lub["form"], lub["h_cut"]), ("plain", 1.0))
+        self.assertEqual(s0.non_bonded_inter[1, 1].dpd.get_params()["offset"], 2.0)
+        self.assertEqual((i0["solvent_count"], i0["lubrication_form"], i0["colloid_dpd"], i0["h_cut"]),
+                         ("poisson", "plain", True, 1.0))
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            return
+        s1 = self.system()
+        i1 = sus.setup_suspension(s1, boundary="stick", **kw)
+        lub = s1.non_bonded_inter[1, 1].lubrication.get_params()
+        self.assertEqual((lub["form"], lub["h_cut"]), ("shifted", sus.STICK_LUBRICATION_H_CUT))
+        self.assertEqual(sus.STICK_LUBRICATION_H_CUT, 0.15)
+        self.assertEqual(s1.non_bonded_inter[1, 1].dpd.get_params(), {})
+        self.assertEqual((i1["solvent_count"], i1["lubrication_form"], i1["colloid_dpd"], i1["h_cut"]),
+                         ("bulk", "shifted", False, 0.15))
+        free = self.L ** 3 - i1["n_colloids"] * 4 / 3 * math.pi * i1["core_radius"] ** 3
+        self.assertEqual(i1["n_solvent"], round(3 * free) + round(i1["adsorbed"] * i1["n_colloids"]))
+        # explicit arguments win; the plain form's h_cut default is r_c for stick too
+        s2 = self.system()
+        i2 = sus.setup_suspension(s2, boundary="stick", radius_calibration="none", lubrication_form="plain",
+                                  colloid_dpd=True, solvent_count="poisson", **kw)
+        lub = s2.non_bonded_inter[1, 1].lubrication.get_params()
+        self.assertEqual(lub, s0.non_bonded_inter[1, 1].lubrication.get_params())
+        self.assertEqual(s2.non_bonded_inter[1, 1].dpd.get_params(), s0.non_bonded_inter[1, 1].dpd.get_params())
+        self.assertEqual(i2["solvent_count"], "poisson")
+        for prop in ("pos", "v"):
+            np.testing.assert_array_equal(getattr(s0.part.all(), prop), getattr(s2.part.all(), prop))
+        s3 = self.system()
+        sus.setup_suspension(s3, boundary="stick", h_cut=0.3, **kw)
+        lub = s3.non_bonded_inter[1, 1].lubrication.get_params()
+        self.assertEqual((lub["form"], lub["h_cut"]), ("shifted", 0.3))
+        s4 = self.system()
+        sus.setup_suspension(s4, lubrication_form="shifted", **kw)  # slip with the shifted form: h_cut = r_c
+        lub = s4.non_bonded_inter[1, 1].lubrication.get_params()
+        self.assertEqual((lub["form"], lub["h_cut"]), ("shifted", 1.0))
+        s5 = self.system()
+        i5 = sus.setup_suspension(s5, boundary="stick", lubrication=False, **kw)
+        self.assertEqual(s5.non_bonded_inter[1, 1].lubrication.get_params(), {})
+        self.assertIsNone(i5["lubrication_form"])
+        for extra in (dict(lubrication_form="log"), dict(boundary="stick", lubrication_form=None, h_cut=0.0)):
+            s = self.system()
+            with self.assertRaisesRegex(ValueError, "lubrication_form" if "log" in str(extra) else "h_cut"):
+                sus.setup_suspension(s, **dict(kw, **extra))
+            self.assertEqual(len(s.part.all()), 0)
+        # the stick default "bulk" needs seed 004's solvent (or adsorbed=, or another count)
+        s = self.system()
+        with self.assertRaisesRegex(ValueError, "solvent_count='exact'"):
+            sus.setup_suspension(s, boundary="stick", **dict(kw, density=4.0))
+        self.assertEqual(len(s.part.all()), 0)
 
     def test_stick_friction_in_stability_check(self):
         """The explicit stability check (integrators/stability.cpp) counts the stick

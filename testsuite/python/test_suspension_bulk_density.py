@@ -41,7 +41,8 @@ def scene(count, seed=12):
     s.time_step = 0.01
     s.cell_system.skin = 0.4
     info = sus.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=seed, h_cut=1.0,
-                                f_contact=50.0, delta=0.02, boundary="stick", solvent_count=count)
+                                f_contact=50.0, delta=0.02, boundary="stick", solvent_count=count,
+                                lubrication_form="plain", colloid_dpd=True)  # the kernels as measured (7e)
     s.integrator.set_shardlow()
     p = s.part.all()
     v = np.asarray(p.v)

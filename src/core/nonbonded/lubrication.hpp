@@ -19,6 +19,15 @@
 // instead multiplies the noise by the DPD weight w_n = 1 - max(h, 0)/h_cut, as
 // seed 004's combined amplitude sqrt(2 (a_sq + gamma) kT) w does: it misses the
 // fraction 1 - w_n^2 of the variance (kept only to show the deficit).
+//
+// form="shifted" (for a solvent that resolves the squeeze flow above h_cut,
+// doc/suspensions.md 7g/7i) subtracts the friction's value at h_cut, so that
+// the kernel supplies only what the solvent misses below h_cut and goes
+// continuously to zero there:
+//   a_sq(h) = 6 pi eta [ a_red^2 (1/h_e - 1/h_cut)  +  c_log ln(h_cut / h_e) ]
+// (log part only with log_term="on"); the noise uses the same a_sq, so
+// fluctuation-dissipation holds unchanged. form="plain" (default) is the
+// form above, bit for bit.
 // Hydrodynamic friction: not scaled by DPD_MASS_* factors.
 #include "nonbonded/kernel.hpp"
 #include "utils/Vector.hpp"
@@ -33,15 +42,16 @@ struct Lubrication {
   static constexpr char const *name = "lubrication", *feature = "LUBRICATION", *py_class = "LubricationInteraction",
                               *doc = "Squeeze lubrication of spheres a1, a2 on the gap h = r - a1 - a2 < h_cut (needs the DPD "
                                      "thermostat for kT): friction a_sq = 6 pi eta [a_red^2/max(h, h_min) (+ log term)] "
-                                     "along e, noise of variance 2 kT a_sq/dt (noise='seed': seed 004's, times w = 1 - h/h_cut).";
+                                     "along e (form='shifted': minus its value at h_cut), noise of variance 2 kT a_sq/dt (noise='seed': seed 004's, times w = 1 - h/h_cut).";
   static constexpr KernelRole role = KernelRole::pair_dissipative;
   static constexpr Utils::RNGSalt salt = Utils::RNGSalt::lubrication;
   static constexpr char const *log_names[] = {"off", "on"};
   static constexpr char const *noise_names[] = {"fdt", "seed"};
+  static constexpr char const *form_names[] = {"plain", "shifted"};
   struct Params {
     bool active = false;
     double eta = 0., a1 = 0., a2 = 0., h_cut = 0., h_min = 1e-3;
-    int log_term = 0, noise = 0;
+    int log_term = 0, noise = 0, form = 0;
     // derived (finish / refresh)
     double offset = 0., a_red2 = 0., a_mean = 0., c_log = 0.;
     double pref_noise = 0.; // sqrt(24 kT / dt)
@@ -63,7 +73,9 @@ struct Lubrication {
           choice("log_term", [](P const &p) { return double(p.log_term); }, [](P &p, double x) { p.log_term = int(x); },
                  log_names),
           choice("noise", [](P const &p) { return double(p.noise); }, [](P &p, double x) { p.noise = int(x); },
-                 noise_names)};
+                 noise_names),
+          choice("form", [](P const &p) { return double(p.form); }, [](P &p, double x) { p.form = int(x); },
+                 form_names)};
       for (auto k : {0, 1, 2, 3})
         f[k].required = true;
       f[4].default_value = 1e-3;
@@ -88,6 +100,12 @@ struct Lubrication {
   /** Squeeze friction coefficient a_sq at gap h (h < h_cut). */
   static double friction(P const &p, double h) {
     double const he = std::max(h, p.h_min);
+    if (p.form == 1) { // shifted: zero at h_cut (h_e <= h < h_cut here, so both terms are >= 0)
+      double a = p.a_red2 * (1. / he - 1. / p.h_cut);
+      if (p.log_term)
+        a += p.c_log * std::log(p.h_cut / he);
+      return a > 0. ? 6. * M_PI * p.eta * a : 0.;
+    }
     double a = p.a_red2 / he;
     if (p.log_term)
       a += p.c_log * std::log(p.a_mean / he);

@@ -44,6 +44,15 @@ STICK_RADIUS_RATIO_ERR = 0.010
 #: friction are dissipative and leave the equilibrium structure alone).
 ADSORBED_PER_AREA = 4.0 / (4.0 * math.pi * 0.987 ** 2)
 
+#: setup_suspension's default squeeze-lubrication range for boundary="stick" (on the
+#: core gap, in units of the solvent's r_c = 1; the kernel's form="shifted", so the
+#: friction goes to zero there). The resolved solvent of two stick colloids gives the
+#: exact two-sphere squeeze resistance down to a hydrodynamic gap ~0.1 (core gap 0.126)
+#: and only 0.79 +/- 0.05 of it in the bin 0.05-0.1 below (doc/suspensions.md 7g); the
+#: shifted kernel with h_cut = 0.15 supplies 1.5 of the missing 1.95 +/- 0.45 there
+#: and adds only 2 % in the resolved bin 0.1-0.15 (section 7i).
+STICK_LUBRICATION_H_CUT = 0.15
+
 
 def equal_volume_cutoff(R, r_cut=1.0):
     """Centre-centre colloid-solvent cutoff (r_c^3 + R^3)^(1/3): the shell
@@ -131,17 +140,18 @@ def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000):
 def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.3, seed=None,
                      r_cut=1.0, a_ss=None, a_cs=None, a_cs_rule="mean_field",
                      f_contact=None, delta=0.001, lubrication=True, h_cut=None, h_min=0.001,
-                     log_term="off", morse=None, colloid_dpd=True,
+                     log_term="off", morse=None, colloid_dpd=None,
                      solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
                      boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None,
-                     radius_calibration=None, solvent_count="poisson", adsorbed=None):
+                     radius_calibration=None, solvent_count=None, adsorbed=None, lubrication_form=None):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
       overlap (or at ``positions``), mass ``density (4/3) pi R^3`` (seed 004).
     - Solvent: ``density`` beads per unit volume outside the colloid cores
       (beads drawn uniformly over the box, those inside a core removed).
-      ``solvent_count``: ``"poisson"`` (default, seed 004's scenes bit for bit):
+      ``solvent_count`` (default None: ``"poisson"`` for "slip", ``"bulk"`` for
+      "stick"): ``"poisson"`` (seed 004's scenes bit for bit):
       a Poisson number of draws with mean ``density V``, so the solvent density of
       a small box scatters between seeds (+/- 6 % for one colloid in L = 4.4,
       +/- 2.6 % in 7 x 7 x 10), and with it the viscosity; ``"exact"``:
@@ -153,12 +163,35 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``adsorbed`` defaults to ADSORBED_PER_AREA x 4 pi a^2 (a the core radius;
       4.00 at a = 0.987), measured for seed 004's conservative forces; with
       another density, a_ss, a_cs, a_cs_rule or r_cut give ``adsorbed``
-      yourself (measure it with ``solvent_structure``).
+      yourself (measure it with ``solvent_structure``), or pass
+      ``solvent_count="exact"`` (the stick default "bulk" needs it too).
     - Interactions (module doc): a_ss = 25 kT/r_c, the colloid-solvent hat
       F_max from ``colloid_solvent_repulsion(R, a_ss, r_c, a_cs_rule)`` unless
       ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
-      (eta, h_cut = r_c, h_min, log_term), ``morse`` a dict of the Morse kernel's
-      eps, alpha, rmin, cutoff (offset 2R added), DPD with ``gamma`` on every pair.
+      (eta, h_cut, h_min, log_term, ``lubrication_form`` the kernel's form),
+      ``morse`` a dict of the Morse kernel's eps, alpha, rmin, cutoff (offset 2R
+      added), DPD with ``gamma`` on the solvent-solvent and colloid-solvent pairs
+      and, with ``colloid_dpd``, on the colloid-colloid pairs.
+    - Defaults that depend on ``boundary`` (None = the boundary's default; an
+      explicit value always wins):
+
+      ============================  =====================  =================================
+      parameter                     "slip" (seed 004)      "stick"
+      ============================  =====================  =================================
+      ``lubrication_form``          ``"plain"``            ``"shifted"``
+      ``h_cut`` (core gap)          ``r_cut``              ``r_cut`` if the form is "plain",
+                                                           else STICK_LUBRICATION_H_CUT (0.15)
+      ``colloid_dpd``               True                   False
+      ``solvent_count``             ``"poisson"``          ``"bulk"``
+      ============================  =====================  =================================
+
+      The stick colloid's resolved solvent carries the squeeze resistance of a pair
+      down to a hydrodynamic gap ~0.1 (doc/suspensions.md 7g), so seed 004's plain
+      kernel to h_cut = r_c and its colloid-colloid DPD count it twice; the shifted
+      kernel supplies only the part the solvent misses below h_cut (section 7i).
+      ``boundary="stick", lubrication_form="plain", colloid_dpd=True,
+      solvent_count="poisson"`` is the stick suspension of sections 7c-7h (before
+      these defaults) bit for bit.
     - ``boundary``: ``"slip"`` (default, seed 004 unchanged: the colloid-solvent
       friction is central, so the colloids are slipping spheres, doc/suspensions.md
       section 7b) or ``"stick"``: the colloids rotate (moment of inertia
@@ -203,7 +236,9 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     ``radius`` the given radius, ``core_radius`` a, ``radius_ratio`` radius/a,
     ``phi`` the volume fraction of spheres of the given radius and ``phi_core``
     that of the cores; ``hydrodynamic_radius`` and ``phi_hydrodynamic`` for
-    "stick": a x STICK_RADIUS_RATIO for the calibrated ratio, a x c for your c).
+    "stick": a x STICK_RADIUS_RATIO for the calibrated ratio, a x c for your c;
+    the effective ``solvent_count``, ``h_cut``, ``lubrication``, ``lubrication_form``
+    and ``colloid_dpd`` after the boundary's defaults).
     Colloid-colloid pairs (range 2R + h_cut) go through the main Verlet list
     but the colloids get their own coarse cell grid (``system.cell_system.
     large_range_types``, "auto" by default), so the solvent's cells keep the
@@ -214,6 +249,17 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if boundary == "slip" and any(x is not None for x in (trans_gamma, rinertia, shared, stick_shell)):
         raise ValueError("parameters 'trans_gamma', 'rinertia', 'shared' and 'stick_shell' apply to "
                          "boundary='stick' only")
+    stick_default = boundary == "stick"
+    if lubrication_form is None:
+        lubrication_form = "shifted" if stick_default else "plain"
+    if lubrication_form not in ("plain", "shifted"):
+        raise ValueError(f"parameter 'lubrication_form' must be 'plain' or 'shifted', got {lubrication_form!r}")
+    if colloid_dpd is None:
+        colloid_dpd = not stick_default
+    if solvent_count is None:
+        solvent_count = "bulk" if stick_default else "poisson"
+    if h_cut is None:
+        h_cut = STICK_LUBRICATION_H_CUT if (stick_default and lubrication_form == "shifted") else r_cut
     if boundary == "stick":
         trans_gamma = 45.0 if trans_gamma is None else _positive("trans_gamma", trans_gamma, allow_zero=True)
         shared = "full" if shared is None else shared
@@ -254,7 +300,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     r_cut = _positive("r_cut", r_cut)
     delta = _positive("delta", delta)
     h_min = _positive("h_min", h_min)
-    h_cut = r_cut if h_cut is None else _positive("h_cut", h_cut)
+    h_cut = _positive("h_cut", h_cut)
     if lubrication:
         if eta is None:
             raise ValueError("parameter 'eta' (the solvent viscosity) is required for lubrication")
@@ -315,7 +361,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 raise ValueError("parameter 'adsorbed' (beads adsorbed per colloid) is required for "
                                  "solvent_count='bulk' unless the solvent is seed 004's (density 3, "
                                  "a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat): measure it "
-                                 "with marble.suspensions.solvent_structure")
+                                 "with marble.suspensions.solvent_structure, or pass solvent_count='exact'")
             adsorbed = ADSORBED_PER_AREA * 4.0 * math.pi * R * R
         adsorbed = _positive("adsorbed", adsorbed, allow_zero=True)
         n_adsorbed = int(round(adsorbed * n_col))
@@ -368,8 +414,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                                              a1=R, a2=0.0, shared=shared)
     ia[c, c].contact.set_params(f_contact=f_contact, delta=delta, offset=2 * R)
     if lubrication:
-        ia[c, c].lubrication.set_params(eta=eta, a1=R, a2=R, h_cut=h_cut, h_min=h_min,
-                                        log_term=log_term)
+        lub = dict(eta=eta, a1=R, a2=R, h_cut=h_cut, h_min=h_min, log_term=log_term)
+        if lubrication_form != "plain":  # "plain" is the kernel's default: seed 004's calls unchanged
+            lub["form"] = lubrication_form
+        ia[c, c].lubrication.set_params(**lub)
     if morse:
         ia[c, c].morse.set_params(**dict(morse, offset=2 * R))
     system.thermostat.set_dpd(kT=kT, seed=int(seed))
@@ -384,6 +432,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
+                lubrication=bool(lubrication), lubrication_form=lubrication_form if lubrication else None,
+                log_term=log_term, colloid_dpd=bool(colloid_dpd),
                 diffusion_time=diffusion_time(R_user, eta, kT) if (eta and kT > 0) else math.inf,
                 boundary=boundary, trans_gamma=trans_gamma, rinertia=rinertia, shared=shared,
                 stick_shell=(rp if stick_shell is None else stick_shell) if boundary == "stick" else None)
