@@ -29,12 +29,15 @@ parser.add_argument("--time", type=float, default=1500.0, help="sampled time")
 parser.add_argument("--flow", type=float, default=120.0, help="time with the force on before sampling")
 parser.add_argument("--g", type=float, default=0.02)
 parser.add_argument("--seed", type=int, default=11)
+parser.add_argument("--seed004-kernels", action="store_true",
+                    help="the settings of section 7c (seed 004's colloid DPD, plain lubrication to h_cut = 1, Poisson solvent count) instead of setup_suspension's stick defaults (section 7i)")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 args = parser.parse_args()
 
 box = np.array([7.0, 7.0, 10.0])
 V, L, DT = float(np.prod(box)), box[2], 0.01
-s, info = sample.scene(args.phi, box, seed=args.seed, boundary="stick")
+old = dict(colloid_dpd=True, lubrication_form="plain", h_cut=1.0, solvent_count="poisson")
+s, info = sample.scene(args.phi, box, seed=args.seed, boundary="stick", **(old if args.seed004_kernels else {}))
 rp = info["stick_shell"]
 gam = info["trans_gamma"]
 R = info["radius"]

@@ -63,6 +63,8 @@ parser.add_argument("--extra-solvent", type=float, default=0.0,
                          "bulk density stays near rho")
 parser.add_argument("--density", type=float, default=None,
                     help="solvent density (default setup_suspension's 3; section 7e: eta_0 at the depleted bulk density)")
+parser.add_argument("--seed004-kernels", action="store_true",
+                    help="stick: the kernels of sections 7c-7e (plain lubrication to h_cut = 1; with --no-colloid-dpd/--no-lubrication still honoured) instead of setup_suspension's stick defaults (shifted lubrication to h_cut = 0.15, section 7i)")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 args = parser.parse_args()
 if args.rest and not args.structure:
@@ -81,6 +83,8 @@ if args.phi > 0:
         kw["trans_gamma"] = args.trans_gamma
     if args.boundary == "stick":
         kw.update(shared=args.shared, stick_shell=args.stick_shell)
+        if args.seed004_kernels:
+            kw.update(lubrication_form="plain", h_cut=1.0)
         if args.radius_calibration is not None:
             rc = args.radius_calibration
             kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
