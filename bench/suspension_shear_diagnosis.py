@@ -10,6 +10,8 @@ and box sizes, and optionally splits the shear stress by type pair:
     build/pymarble bench/suspension_shear_diagnosis.py run --phi 0.3 --rate 0.025 \
         --time 2000 --seed 11 [--box 8 8 8] [--split] --json FILE
     build/pymarble bench/suspension_shear_diagnosis.py table FILES [--eta0 0.3290 0.0030]
+    build/pymarble bench/suspension_shear_diagnosis.py split FILES   # the split per scene
+    build/pymarble bench/suspension_shear_diagnosis.py check-split
 
 ``--split`` records, at every stress sample, the xy stress of the
 solvent-solvent pairs, of the colloid-solvent pairs (conservative repulsion,
@@ -207,18 +209,38 @@ def table(files, eta0=0.3290, eta0_err=0.0030):
         d = dict(phi=phi, rate=rate, box=box, seeds=[r["seed"] for r in sel], eta=m, eta_err=err, chi2=chi2,
                  per_seed=[(r["eta"] / eta0, r["eta_err"] / eta0, r["seed"]) for r in sel],
                  cpu_s=[round(r.get("cpu_s", 0)) for r in sel])
+        if "split" in sel[0]:
+            d["split"] = {k: weighted([r["split"][k][0] for r in sel if "split" in r],
+                                      [r["split"][k][1] for r in sel if "split" in r])[:2]
+                          for k in sel[0]["split"] if sel[0]["split"][k][1] > 0}
         if pn > 0:
             er = m / eta0
             d["eta_r"], d["eta_r_err"] = er, er * math.hypot(err / m, eta0_err / eta0)
             th = 1 + 2.5 * phi + 6.2 * phi ** 2 if phi < 0.15 else kd(phi)
             d["theory"], d["deviation"], d["deviation_err"] = th, er / th - 1, d["eta_r_err"] / th
-            if "split" in sel[0]:
-                sp = {}
-                for k in sel[0]["split"]:
-                    sp[k] = weighted([r["split"][k][0] for r in sel if "split" in r],
-                                     [r["split"][k][1] for r in sel if "split" in r])[:2]
-                d["split"] = sp
         out.append(d)
+    return out
+
+
+def split_rows(files, eta0=0.3290):
+    """Per scene: eta_r and the split's parts in units of eta_0 (value, error),
+    with the solvent part (kinetic + ss; error not given: the parts are correlated)."""
+    out = []
+    for f in files:
+        for line in open(f):
+            if not line.strip():
+                continue
+            r = json.loads(line)
+            sp = r.get("split")
+            if not sp:
+                continue
+            d = dict(phi=r["phi"], rate=r["rate"], box=r["box"], seed=r["seed"],
+                     eta_r=(r["eta"] / eta0, r["eta_err"] / eta0))
+            for k, (m, e) in sp.items():
+                if k != "total":
+                    d[k] = (m / eta0, e / eta0)
+            d["solvent_part"] = d["kinetic_solvent"][0] + d["pair_ss"][0]
+            out.append(d)
     return out
 
 
@@ -238,7 +260,18 @@ def main():
     t = sub.add_parser("table")
     t.add_argument("files", nargs="+")
     t.add_argument("--eta0", type=float, nargs=2, default=[0.3290, 0.0030])
+    sp = sub.add_parser("split", help="the type-pair split per scene, in units of eta_0")
+    sp.add_argument("files", nargs="+")
+    sp.add_argument("--eta0", type=float, default=0.3290)
     a = ap.parse_args()
+    if a.cmd == "split":
+        keys = ("kinetic_solvent", "pair_ss", "kinetic_colloid", "pair_cc", "pair_cs")
+        print("phi rate box seed | eta_r | " + " | ".join(keys) + " | solvent part")
+        for d in split_rows(a.files, a.eta0):
+            print(f"{d['phi']:.4f} {d['rate']} {d['box'][0]:g} {d['seed']} | {d['eta_r'][0]:.3f}({1000 * d['eta_r'][1]:.0f}) | "
+                  + " | ".join(f"{d[k][0]:.3f}({1000 * d[k][1]:.0f})" if d[k][1] > 0 else "-" for k in keys)
+                  + f" | {d['solvent_part']:.3f}")
+        return
     if a.cmd == "run":
         run(a)
     elif a.cmd == "check-split":
