@@ -5,10 +5,11 @@ Runs samples/lees_edwards_suspension.py's scene and measurement unchanged
 (``scene()``, ``measure()``: stick colloids, ``solvent_count="bulk"``, no
 lubrication, no colloid DPD, velocity Verlet at dt = 0.005, the settings of
 section 7h's ``--no-lubrication --no-colloid-dpd`` rows) at other shear rates
-and box sizes, and optionally splits the shear stress by type pair:
+and box sizes (optionally with the squeeze lubrication on below a short core gap,
+``--lubrication-h-cut``), and optionally splits the shear stress by type pair:
 
     build/pymarble bench/suspension_shear_diagnosis.py run --phi 0.3 --rate 0.025 \
-        --time 2000 --seed 11 [--box 8 8 8] [--split] --json FILE
+        --time 2000 --seed 11 [--box 8 8 8] [--split] [--lubrication-h-cut 0.13] --json FILE
     build/pymarble bench/suspension_shear_diagnosis.py table FILES [--eta0 0.3290 0.0030]
     build/pymarble bench/suspension_shear_diagnosis.py split FILES   # the split per scene
     build/pymarble bench/suspension_shear_diagnosis.py check-split
@@ -118,8 +119,10 @@ class SplitRecorder:
 def run(args):
     t0, w0 = time.process_time(), time.time()
     stick = args.phi > 0
+    lub = args.lubrication_h_cut is not None
     s, info = scene(args.phi, args.box, args.dt, seed=args.seed, boundary="stick", shardlow=False,
-                    solvent_count="bulk", lubrication=False, colloid_dpd=False)
+                    solvent_count="bulk", lubrication=lub, colloid_dpd=False,
+                    h_cut=args.lubrication_h_cut if lub else 1.0)
     rec = None
     if args.split:
         types = set(np.asarray(s.part.all().type).tolist())
@@ -131,8 +134,9 @@ def run(args):
     row = dict(phi=info.get("phi", 0.0), phi_nominal=args.phi, boundary="stick" if stick else "solvent",
                n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate, time=args.time,
                dt=args.dt, integrator="vv", seed=args.seed, eta=eta, eta_err=err,
-               solvent_count="bulk" if stick else "exact", lubrication=False if stick else None,
-               colloid_dpd=False if stick else None, h_cut=1.0 if stick else None,
+               solvent_count="bulk" if stick else "exact", lubrication=lub if stick else None,
+               colloid_dpd=False if stick else None,
+               h_cut=(args.lubrication_h_cut if lub else 1.0) if stick else None,
                n_solvent=len(info["solvent_ids"]) if stick else int(round(3.0 * np.prod(args.box))),
                cpu_s=time.process_time() - t0, wall_s=time.time() - w0, slope=slope, slope_err=slope_err, kT=kt)
     if rec is not None:
@@ -197,16 +201,17 @@ def table(files, eta0=0.3290, eta0_err=0.0030):
     rows = [json.loads(line) for f in files for line in open(f) if line.strip()]
     groups = {}
     for r in rows:
-        if r.get("lubrication", True) is True or r.get("colloid_dpd", True) is True:
-            if r.get("phi_nominal", 0) != 0:
-                continue
-        key = (r["phi_nominal"], r["rate"], tuple(r["box"]))
+        if r.get("phi_nominal", 0) != 0 and (r.get("solvent_count") != "bulk" or r.get("colloid_dpd", True) is True or
+                                            (r.get("lubrication", True) and r.get("h_cut", 1.0) == 1.0)):
+            continue  # only the scenes without the double-counted kernels (or with a short-range lubrication)
+        lub = r.get("h_cut") if r.get("lubrication") else None
+        key = (r["phi_nominal"], r["rate"], tuple(r["box"]), lub)
         groups.setdefault(key, []).append(r)
     out = []
-    for (pn, rate, box), sel in sorted(groups.items()):
+    for (pn, rate, box, lub), sel in sorted(groups.items(), key=lambda kv: (kv[0][:3], kv[0][3] or 0)):
         phi = sel[0]["phi"]
         m, err, chi2 = weighted([r["eta"] for r in sel], [r["eta_err"] for r in sel])
-        d = dict(phi=phi, rate=rate, box=box, seeds=[r["seed"] for r in sel], eta=m, eta_err=err, chi2=chi2,
+        d = dict(phi=phi, rate=rate, box=box, lubrication_h_cut=lub, seeds=[r["seed"] for r in sel], eta=m, eta_err=err, chi2=chi2,
                  per_seed=[(r["eta"] / eta0, r["eta_err"] / eta0, r["seed"]) for r in sel],
                  cpu_s=[round(r.get("cpu_s", 0)) for r in sel])
         if "split" in sel[0]:
@@ -255,6 +260,9 @@ def main():
     r.add_argument("--dt", type=float, default=0.005)
     r.add_argument("--seed", type=int, default=11)
     r.add_argument("--split", action="store_true", help="record the type-pair split of the shear stress")
+    r.add_argument("--lubrication-h-cut", type=float, default=None,
+                   help="switch the squeeze lubrication on with this range on the core gap (section 7g: ~0.13); "
+                        "default off")
     r.add_argument("--json")
     sub.add_parser("check-split")
     t = sub.add_parser("table")
@@ -279,7 +287,8 @@ def main():
     else:
         for d in table(a.files, a.eta0[0], a.eta0[1]):
             per = ", ".join(f"{x:.3f}({1000 * e:.0f}) ({sd})" for x, e, sd in d["per_seed"])
-            line = (f"phi {d['phi']:.4f} rate {d['rate']} box {'x'.join(f'{b:g}' for b in d['box'])}: "
+            lubs = f" lubrication h_cut {d['lubrication_h_cut']}" if d["lubrication_h_cut"] else ""
+            line = (f"phi {d['phi']:.4f} rate {d['rate']} box {'x'.join(f'{b:g}' for b in d['box'])}{lubs}: "
                     f"eta {d['eta']:.4f} +/- {d['eta_err']:.4f} (chi^2 {d['chi2']:.1f}/{len(d['seeds']) - 1})")
             if "eta_r" in d:
                 line += (f"; eta_r per seed {per}; eta_r = {d['eta_r']:.3f} +/- {d['eta_r_err']:.3f}; theory "
