@@ -77,10 +77,23 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
         s.integrator.set_shardlow()
     else:
         s.integrator.set_vv()
-    v = np.asarray(s.part.all().v)
-    s.part.all().v = v - v.mean(axis=0)
+    zero_momentum(s)
     s.integrator.run(int(round(equil / dt)))
     return s, info
+
+
+def zero_momentum(s):
+    """Remove the mass-weighted mean velocity: total momentum 0. Under
+    Lees-Edwards a net momentum normal to the shear plane (P_y = M V_y, conserved)
+    carries the material across the shear plane, each crossing changes v_x by
+    the shear velocity, so the mean flow drifts as U_0(t) = -rate V_y t and the
+    kinetic stress gains M U_0 V_y / V: eta biased by +M V_y^2 t / V
+    (doc/suspensions.md section 7k). Colloids heavier than the beads make an
+    unweighted mean leave such a P_y."""
+    parts = s.part.all()
+    v = np.asarray(parts.v)
+    m = np.asarray(parts.mass, dtype=float) if marble.has_features("MASS") else np.ones(len(v))
+    parts.v = v - (m[:, None] * v).sum(axis=0) / m.sum()
 
 
 def measure(s, rate, time, sample_every=10, equil=10.0):
@@ -93,6 +106,7 @@ def measure(s, rate, time, sample_every=10, equil=10.0):
     dt = s.time_step
     parts = s.part.all()
     # start from the linear profile (momentum diffuses across L_y in ~rho L^2 / (pi^2 eta))
+    zero_momentum(s)  # (also for scenes built elsewhere; see zero_momentum)
     v = np.asarray(parts.v)
     v[:, 0] += rate * (np.asarray(parts.pos_folded)[:, 1] - 0.5 * L[1])
     parts.v = v
