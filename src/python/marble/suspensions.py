@@ -230,6 +230,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
 
     The random solvent carries hat energy (about 8 kT per bead at kT = 0.1):
     equilibrate a few time units before measuring (doc/suspensions.md).
+    The velocities are drawn at kT without zeroing the total momentum: remove
+    the mass-weighted mean velocity before a flow measurement (under
+    Lees-Edwards a net momentum normal to the shear plane biases the viscosity:
+    doc/lees-edwards.md, doc/suspensions.md section 7k).
 
     Every parameter is checked before anything changes (ValueError naming
     it). Returns a dict of what was set (counts, cutoffs, parameters, ids;
