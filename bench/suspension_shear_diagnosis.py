@@ -122,7 +122,7 @@ def run(args):
     lub = args.lubrication_h_cut is not None
     s, info = scene(args.phi, args.box, args.dt, seed=args.seed, boundary="stick", shardlow=False,
                     solvent_count="bulk", lubrication=lub, colloid_dpd=False,
-                    h_cut=args.lubrication_h_cut if lub else 1.0)
+                    h_cut=args.lubrication_h_cut if lub else 1.0, lubrication_form=args.lubrication_form)
     rec = None
     if args.split:
         types = set(np.asarray(s.part.all().type).tolist())
@@ -137,6 +137,7 @@ def run(args):
                solvent_count="bulk" if stick else "exact", lubrication=lub if stick else None,
                colloid_dpd=False if stick else None,
                h_cut=(args.lubrication_h_cut if lub else 1.0) if stick else None,
+               lubrication_form=args.lubrication_form if (stick and lub) else None,
                n_solvent=len(info["solvent_ids"]) if stick else int(round(3.0 * np.prod(args.box))),
                cpu_s=time.process_time() - t0, wall_s=time.time() - w0, slope=slope, slope_err=slope_err, kT=kt)
     if rec is not None:
@@ -263,6 +264,9 @@ def main():
     r.add_argument("--lubrication-h-cut", type=float, default=None,
                    help="switch the squeeze lubrication on with this range on the core gap (section 7g: ~0.13); "
                         "default off")
+    r.add_argument("--lubrication-form", choices=["plain", "shifted"], default="plain",
+                   help="the kernel's form with --lubrication-h-cut (section 7j's check: plain; "
+                        "setup_suspension's stick default since 7i: shifted)")
     r.add_argument("--json")
     sub.add_parser("check-split")
     t = sub.add_parser("table")
