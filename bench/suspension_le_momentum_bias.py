@@ -45,7 +45,7 @@ def momentum(row, equil_measure=10.0):
         kw = dict(boundary=row.get("boundary", "slip"), shardlow=row.get("integrator", "vv") != "vv",
                   solvent_count=row.get("solvent_count"),
                   lubrication=row.get("lubrication", True) is not False,
-                  colloid_dpd=row.get("colloid_dpd", True) if row.get("colloid_dpd") is not None else True,
+                  colloid_dpd=row.get("colloid_dpd") is not False,
                   h_cut=row.get("h_cut", 1.0), lubrication_form=row.get("lubrication_form", "plain"))
         s, _ = les.scene(row["phi_nominal"], row["box"], row["dt"], seed=row["seed"], equil=0.0, **kw)
     finally:

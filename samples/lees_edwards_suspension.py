@@ -90,10 +90,7 @@ def zero_momentum(s):
     kinetic stress gains M U_0 V_y / V: eta biased by +M V_y^2 t / V
     (doc/suspensions.md section 7k). Colloids heavier than the beads make an
     unweighted mean leave such a P_y."""
-    parts = s.part.all()
-    v = np.asarray(parts.v)
-    m = np.asarray(parts.mass, dtype=float) if marble.has_features("MASS") else np.ones(len(v))
-    parts.v = v - (m[:, None] * v).sum(axis=0) / m.sum()
+    s.galilei.galilei_transform()
 
 
 def measure(s, rate, time, sample_every=10, equil=10.0):

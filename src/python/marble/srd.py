@@ -178,12 +178,9 @@ def colloid_volume(system, type=0):
     """Total volume ``sum 4/3 pi a^3`` of the colloids present whose type has
     an SRD boundary (``boundary(system, c, type)``) for SRD ``type``
     (overlaps between colloids and with walls are not subtracted)."""
-    types = np.atleast_1d(np.asarray(system.part.all().type, dtype=int)) if len(system.part) else []
-    v = 0.0
-    for c, count in zip(*np.unique(types, return_counts=True)) if len(types) else []:
-        a = boundary(system, int(c), type).get_params().get("radius", 0.0)
-        v += count * 4.0 / 3.0 * np.pi * a ** 3
-    return v
+    types, counts = np.unique(np.asarray(system.part.all().type, dtype=int), return_counts=True)
+    radii = [boundary(system, int(c), type).get_params().get("radius", 0.0) for c in types]
+    return float(np.sum(counts * 4.0 / 3.0 * np.pi * np.asarray(radii, dtype=float) ** 3))
 
 
 def add_fluid(system, density, type=0, kT=1.0, seed=0, n=None, volume="box"):
