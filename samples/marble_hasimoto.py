@@ -22,8 +22,8 @@ import time
 
 import numpy as np
 
-from marble.colloid_runs import (DT, KT, QUICK, common_args, drag_run, make_system,  # noqa: E402
-                         plot_setup, save_figure, write_json)
+from marble.colloid_runs import (KT, QUICK, common_args, drag_run, integration_args,  # noqa: E402
+                                make_system, plot_setup, save_figure, write_json)
 from marble import theory as th  # noqa: E402
 
 
@@ -33,6 +33,7 @@ def main():
     p.add_argument("--gamma", type=float, default=5.0)
     p.add_argument("--speed", type=float, default=0.12, help="target colloid speed (sets F)")
     args = p.parse_args()
+    integrator, dt = integration_args(args)
     if args.paper:
         R, Ls, t_prod = 3.0, [12.0, 16.0, 20.0, 24.0, 30.0], 1000.0
     else:
@@ -44,27 +45,31 @@ def main():
     eta = args.eta
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_hasimoto.json")
-    data = dict(sample="marble_hasimoto", R=R, gamma=args.gamma, eta=eta, kT=KT, dt=DT,
+    data = dict(sample="marble_hasimoto", R=R, gamma=args.gamma, eta=eta, kT=KT, dt=dt,
+                integrator=integrator,
                 t_prod=t_prod, t_equil=20.0, seed=args.seed, points=[])
     cost = np.array(Ls) ** 3 * (t_prod + 30.0)
     t_start = time.time()
     for i, L in enumerate(Ls):
         D_th = th.hasimoto_D(eta, R, L)
         F = args.speed / D_th * KT
-        system, col, solvent = make_system(L, R, args.gamma, args.seed + i)
+        c0 = time.process_time()
+        system, col, solvent = make_system(L, R, args.gamma, args.seed + i, integrator=integrator, dt=dt)
         res = drag_run(system, col, F, t_prod)
+        cpu_s = time.process_time() - c0
         n_solvent = len(solvent)
         del system
         pt = dict(L=L, n_solvent=n_solvent, force=F, D=res.D, D_err=res.D_err, v=res.v,
                   v_err=res.v_err, D_hasimoto_stick=D_th,
-                  D_hasimoto_slip=th.hasimoto_D(eta, R, L, boundary="slip"))
+                  D_hasimoto_slip=th.hasimoto_D(eta, R, L, boundary="slip"), cpu_s=cpu_s)
         data["points"].append(pt)
         el = time.time() - t_start
         eta_s = el / cost[: i + 1].sum() * cost[i + 1:].sum()
         print(f"  L={L:5.1f} (N={n_solvent}): D = {res.D:.5f} +- {res.D_err:.5f}, Hasimoto "
               f"{D_th:.5f}, ratio {res.D / D_th:.3f} +- {res.D_err / D_th:.3f}   "
               f"[elapsed {el:.0f} s, ETA {eta_s:.0f} s]", flush=True)
-        data["cpu_time_s"] = el
+        data["cpu_time_s"] = sum(q["cpu_s"] for q in data["points"])
+        data["wall_time_s"] = el
         write_json(jpath, data)
     L_arr = np.array([q["L"] for q in data["points"]])
     D_arr = np.array([q["D"] for q in data["points"]])
@@ -78,7 +83,7 @@ def main():
         print(f"no hydrodynamic-radius fit: {e}")
     chi2 = float(np.sum(((D_arr - th.hasimoto_D(eta, R, L_arr)) / E_arr) ** 2))
     print(f"chi^2 vs Hasimoto stick (no free parameter) = {chi2:.2f} for {len(L_arr)} points")
-    data.update(R_h=Rh, R_h_err=Rh_err, chi2_stick=chi2, cpu_time_s=time.time() - t_start)
+    data.update(R_h=Rh, R_h_err=Rh_err, chi2_stick=chi2, wall_time_s=time.time() - t_start)
     write_json(jpath, data)
 
     plt = plot_setup()

@@ -22,8 +22,8 @@ import time
 
 import numpy as np
 
-from marble.colloid_runs import (DT, KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
-                         make_system, msd_window, plot_setup, rows, save_figure, write_json)
+from marble.colloid_runs import (KT, QUICK, Progress, common_args, equilibrium_run,  # noqa: E402
+                                integration_args, make_system, msd_window, plot_setup, rows, save_figure, write_json)
 from marble import diffusion as dif  # noqa: E402
 from marble import theory as th  # noqa: E402
 
@@ -32,6 +32,7 @@ def main():
     p = common_args(__doc__.splitlines()[0], 1000.0, 20000.0)
     p.add_argument("--gamma", type=float, default=5.0, help="surface friction (5: no slip)")
     args = p.parse_args()
+    integrator, dt = integration_args(args)
     R, L = (3.0, 20.0) if args.paper else (2.0, 12.0)
     t_total = args.time or (20000.0 if args.paper else 1000.0)
     t_chunk = 500.0 if args.paper else 200.0
@@ -43,14 +44,15 @@ def main():
     eta = args.eta
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_msd.json")
-    system, col, _ = make_system(L, R, args.gamma, args.seed)
+    system, col, _ = make_system(L, R, args.gamma, args.seed, integrator=integrator, dt=dt)
     D_th = th.hasimoto_D(eta, R, L)
     win = msd_window(L, eta, msd_tau_max, args.paper)
     if win[1] > msd_tau_max:   # very short runs (MARBLE_SAMPLE_TEST)
         win = (0.4 * msd_tau_max, msd_tau_max)
     print(f"marble R={R} L={L} gamma={args.gamma}: {n_chunks} chunks x {t_chunk} tau, "
           f"fit window {win[0]:.1f}-{win[1]:.1f} tau", flush=True)
-    meta = dict(sample="marble_msd", R=R, L=L, gamma=args.gamma, eta=eta, kT=KT, dt=DT,
+    meta = dict(sample="marble_msd", R=R, L=L, gamma=args.gamma, eta=eta, kT=KT, dt=dt,
+                integrator=integrator,
                 seed=args.seed, t_chunk=t_chunk, n_chunks_planned=n_chunks, fit_window=win,
                 D_hasimoto_stick=D_th)
     t_start = time.time()
@@ -59,7 +61,7 @@ def main():
         write_json(jpath, dict(meta, n_chunks_done=done, cpu_time_s=time.time() - t_start,
                                t_msd=eq["t_msd"], msd_rows=eq["msd"]))
 
-    prog = Progress(n_chunks * int(round(t_chunk / DT)))
+    prog = Progress(n_chunks * int(round(t_chunk / dt)))
     eq = equilibrium_run(system, col, t_chunk, n_chunks, min(10.0, t_chunk / 4), msd_tau_max,
                          prog, save)
     ff = eq["frame_factor"]

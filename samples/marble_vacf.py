@@ -36,7 +36,7 @@ from marble import theory as th
 from marble.colloids import add_marble
 
 from marble.colloid_runs import (  # noqa: F401  (the shared helpers)
-    KT, RHO, DT, GAMMA_DPD, QUICK, make_system, tau_box, gk_window, msd_window, Progress, equilibrium_run, drag_run, rows, analyse_equilibrium, jsonable, write_json, common_args, plot_setup, save_figure)
+    KT, RHO, DT, GAMMA_DPD, integration_args, QUICK, make_system, tau_box, gk_window, msd_window, Progress, equilibrium_run, drag_run, rows, analyse_equilibrium, jsonable, write_json, common_args, plot_setup, save_figure)
 
 
 # ---------------------------------------------------------------- Fig. 2
@@ -44,6 +44,7 @@ def main():
     p = common_args(__doc__.splitlines()[0], 1000.0, 20000.0)
     p.add_argument("--gamma", type=float, default=5.0, help="surface friction (5: no slip)")
     args = p.parse_args()
+    integrator, dt = integration_args(args)
     R, L = (3.0, 20.0) if args.paper else (2.0, 12.0)
     t_total = args.time or (20000.0 if args.paper else 1000.0)
     if QUICK:
@@ -57,7 +58,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_vacf.json")
 
-    system, col, _ = make_system(L, R, args.gamma, args.seed)
+    system, col, _ = make_system(L, R, args.gamma, args.seed, integrator=integrator, dt=dt)
     M, I = col.mass, col.rinertia[0]
     print(f"marble R={R} L={L} gamma={args.gamma}: M={M:.1f}, {n_chunks} chunks x {t_chunk} tau",
           flush=True)
@@ -66,7 +67,7 @@ def main():
     A_T = th.vacf_tail_amplitude(eta, RHO)
     A_R = th.rotational_vacf_tail_amplitude(eta, RHO)
     meta = dict(sample="marble_vacf", R=R, L=L, gamma=args.gamma, eta=eta, kT=KT, rho=RHO,
-                dt=DT, mass=M, rinertia=I, seed=args.seed, t_chunk=t_chunk,
+                dt=dt, integrator=integrator, mass=M, rinertia=I, seed=args.seed, t_chunk=t_chunk,
                 n_chunks_planned=n_chunks, D_hasimoto_stick=D_th, Dr_hasimoto_stick=Dr_th,
                 tail_amplitude_T=A_T, tail_amplitude_R=A_R)
     t_start = time.time()
@@ -76,7 +77,7 @@ def main():
                     t_vacf=eq["t_vacf"], vacf_rows=eq["vacf"], rvacf_rows=eq["rvacf"])
         write_json(jpath, data)
 
-    prog = Progress(n_chunks * int(round(t_chunk / DT)))
+    prog = Progress(n_chunks * int(round(t_chunk / dt)))
     eq = equilibrium_run(system, col, t_chunk, n_chunks, tau_max, tau_max, prog, save)
     t = np.asarray(eq["t_vacf"])
     V, W = rows(eq["vacf"]), rows(eq["rvacf"])

@@ -51,12 +51,47 @@ def marble_box(L, R, gamma, seed, rho=RHO, gamma_dpd=GAMMA_DPD, kT=KT, dt=DT, ma
     return system, colloid, solvent
 
 
-def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0):
+INTEGRATORS = ("vv", "shardlow")
+
+
+def default_dt(integrator):
+    """The samples' time step for @p integrator: the paper's 0.01 for velocity
+    Verlet, 0.04 for Shardlow (doc/speed-accuracy.md: kT within 0.1 %, eta and
+    the colloid's D unchanged within 2 %, the cheapest choice per tau)."""
+    return {"vv": DT, "shardlow": 0.04}[check_integrator(integrator)]
+
+
+def check_integrator(integrator):
+    """@p integrator if it is one of INTEGRATORS, else ValueError."""
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    return integrator
+
+
+def steps_for(system, t):
+    """The number of steps of the system's time step in @p t tau."""
+    return int(round(t / system.time_step))
+
+
+def every(system, t):
+    """A sampling interval in steps close to @p t tau (at least one step)."""
+    return max(1, int(round(t / system.time_step)))
+
+
+def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0, integrator="vv", dt=None):
     """Paper solvent in a cubic box of side L with one marble of radius R at the
-    centre (marble_box); total momentum set to zero; `warmup` tau of equilibration."""
-    system, colloid, solvent = marble_box(L, R, gamma, seed, coupling=coupling)
+    centre (marble_box); total momentum set to zero; `warmup` tau of equilibration.
+    ``integrator`` is "vv" (velocity Verlet, the paper's) or "shardlow" (the DPD
+    pairs by Shardlow's exact pair update, doc/dpd.md); ``dt`` defaults to
+    default_dt(integrator)."""
+    dt = default_dt(integrator) if dt is None else float(dt)
+    if not dt > 0:
+        raise ValueError(f"dt must be > 0, got {dt}")
+    system, colloid, solvent = marble_box(L, R, gamma, seed, coupling=coupling, dt=dt)
+    if integrator == "shardlow":
+        system.integrator.set_shardlow()
     if warmup > 0:
-        system.integrator.run(int(round(warmup / DT)))
+        system.integrator.run(steps_for(system, warmup))
     return system, colloid, solvent
 
 
@@ -112,13 +147,15 @@ def equilibrium_run(system, colloid, t_chunk, n_chunks, vacf_tau_max, msd_tau_ma
     Ms = float(np.sum(system.part.all().mass)) - M
     out = {"vacf": [], "rvacf": [], "msd": [], "t_chunk": t_chunk,
            "frame_factor": (Ms / (M + Ms)) ** 2}
-    steps = int(round(t_chunk / DT))
+    steps = steps_for(system, t_chunk)
+    # samples every ~0.05 tau (VACF) and ~0.1 tau (MSD): 5 and 10 steps at dt = 0.01
+    n_v, n_m = every(system, 0.05), every(system, 0.1)
     for c in range(n_chunks):
-        cv = acc.Correlator(obs1=vel, tau_lin=16, tau_max=vacf_tau_max, delta_N=5,
+        cv = acc.Correlator(obs1=vel, tau_lin=16, tau_max=vacf_tau_max, delta_N=n_v,
                             corr_operation="scalar_product", compress1="linear")
-        cw = acc.Correlator(obs1=omg, tau_lin=16, tau_max=vacf_tau_max, delta_N=5,
+        cw = acc.Correlator(obs1=omg, tau_lin=16, tau_max=vacf_tau_max, delta_N=n_v,
                             corr_operation="scalar_product", compress1="linear")
-        cm = acc.Correlator(obs1=pos, tau_lin=16, tau_max=msd_tau_max, delta_N=10,
+        cm = acc.Correlator(obs1=pos, tau_lin=16, tau_max=msd_tau_max, delta_N=n_m,
                             corr_operation="square_distance_componentwise",
                             compress1="discard1")
         for k in (cv, cw, cm):
@@ -139,7 +176,7 @@ def equilibrium_run(system, colloid, t_chunk, n_chunks, vacf_tau_max, msd_tau_ma
     return out
 
 
-def drag_run(system, colloid, force, t_prod, t_equil=20.0, delta_N=10):
+def drag_run(system, colloid, force, t_prod, t_equil=20.0, delta_N=None):
     """Drag method via marble.diffusion.measure_drag; returns the Result
     (D, D_err, v, v_err attributes).
 
@@ -148,10 +185,13 @@ def drag_run(system, colloid, force, t_prod, t_equil=20.0, delta_N=10):
     2 D_x / T for a run much longer than the velocity correlation time): in
     runs of a few hundred tau the blocking analysis has no plateau and
     underestimates the error (we saw 3-sigma "outliers" with it alone).
-    The blocking values are kept as D_err_blocking, v_err_blocking."""
+    The blocking values are kept as D_err_blocking, v_err_blocking. The
+    velocity is sampled every ``delta_N`` steps (default: ~0.1 tau)."""
+    if delta_N is None:
+        delta_N = every(system, 0.1)
     res = dif.measure_drag(system, [colloid], force=[force, 0.0, 0.0],
-                           steps=int(round(t_prod / DT)),
-                           equilibration_steps=int(round(t_equil / DT)), delta_N=delta_N, kT=KT)
+                           steps=steps_for(system, t_prod),
+                           equilibration_steps=steps_for(system, t_equil), delta_N=delta_N, kT=KT)
     v_floor = np.sqrt(2.0 * max(res.D, 0.0) / t_prod)
     res.D_err_blocking, res.v_err_blocking = res.D_err, res.v_err
     if v_floor > res.v_err:
@@ -220,7 +260,20 @@ def common_args(description, default_time, paper_time):
                    help="solvent viscosity for the theory (the engine's measured value)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--out", default=".", help="output directory")
+    p.add_argument("--integrator", choices=INTEGRATORS, default="vv",
+                   help="vv: velocity Verlet (the paper's); shardlow: Shardlow's exact DPD pair "
+                        "update (doc/speed-accuracy.md's choice at dt = 0.04)")
+    p.add_argument("--dt", type=float, default=None,
+                   help="time step (default 0.01 with vv, 0.04 with shardlow)")
     return p
+
+
+def integration_args(args):
+    """(integrator, dt) from the parsed common_args, dt defaulted and checked."""
+    dt = default_dt(args.integrator) if args.dt is None else args.dt
+    if not dt > 0:
+        raise ValueError(f"--dt must be > 0, got {dt}")
+    return args.integrator, dt
 
 
 def save_figure(fig, out_dir, name, json_path):
