@@ -90,7 +90,6 @@ def main():
     p.add_argument("--stop-after", type=float, default=None, metavar="SECONDS",
                    help="start no run that would likely end after SECONDS (wall) of this invocation")
     args = p.parse_args()
-    integrator, dt = integration_args(args)
     if args.stop_after is not None and not args.stop_after > 0:
         raise ValueError(f"--stop-after must be > 0 seconds, got {args.stop_after}")
     if args.paper:
@@ -108,6 +107,7 @@ def main():
     eta = args.eta
     D_stick, D_slip = th.hasimoto_D(eta, R, L), th.hasimoto_D(eta, R, L, boundary="slip")
     F = 0.1 / D_stick * KT          # colloid speed ~ 0.1 (no slip)
+    integrator, dt = integration_args(args, R)
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_diffusion_vs_gamma.json")
     print(f"marble R={R} L={L}: gammas {gammas}, {len(seeds)} seeds, equilibrium {t_eq} tau, "

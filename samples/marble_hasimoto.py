@@ -33,7 +33,6 @@ def main():
     p.add_argument("--gamma", type=float, default=5.0)
     p.add_argument("--speed", type=float, default=0.12, help="target colloid speed (sets F)")
     args = p.parse_args()
-    integrator, dt = integration_args(args)
     if args.paper:
         R, Ls, t_prod = 3.0, [12.0, 16.0, 20.0, 24.0, 30.0], 1000.0
     else:
@@ -43,6 +42,7 @@ def main():
     Ls = args.L or Ls
     t_prod = args.time or t_prod
     eta = args.eta
+    integrator, dt = integration_args(args, R)
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_hasimoto.json")
     data = dict(sample="marble_hasimoto", R=R, gamma=args.gamma, eta=eta, kT=KT, dt=dt,

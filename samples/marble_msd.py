@@ -32,7 +32,6 @@ def main():
     p = common_args(__doc__.splitlines()[0], 1000.0, 20000.0)
     p.add_argument("--gamma", type=float, default=5.0, help="surface friction (5: no slip)")
     args = p.parse_args()
-    integrator, dt = integration_args(args)
     R, L = (3.0, 20.0) if args.paper else (2.0, 12.0)
     t_total = args.time or (20000.0 if args.paper else 1000.0)
     t_chunk = 500.0 if args.paper else 200.0
@@ -42,6 +41,7 @@ def main():
     n_chunks = max(1, int(round(t_total / t_chunk)))
     msd_tau_max = t_chunk / 4
     eta = args.eta
+    integrator, dt = integration_args(args, R)
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_msd.json")
     system, col, _ = make_system(L, R, args.gamma, args.seed, integrator=integrator, dt=dt)

@@ -44,7 +44,6 @@ def main():
     p = common_args(__doc__.splitlines()[0], 1000.0, 20000.0)
     p.add_argument("--gamma", type=float, default=5.0, help="surface friction (5: no slip)")
     args = p.parse_args()
-    integrator, dt = integration_args(args)
     R, L = (3.0, 20.0) if args.paper else (2.0, 12.0)
     t_total = args.time or (20000.0 if args.paper else 1000.0)
     if QUICK:
@@ -55,6 +54,7 @@ def main():
         t_chunk = 20.0
     n_chunks = max(1, int(round(t_total / t_chunk)))
     tau_max = min(100.0 if args.paper else 50.0, t_chunk / 4)
+    integrator, dt = integration_args(args, R)
     os.makedirs(args.out, exist_ok=True)
     jpath = os.path.join(args.out, "marble_vacf.json")
 

@@ -3,7 +3,8 @@
 (marble.colloid_runs, samples/marble_diffusion_vs_gamma.py; doc/paper-reproduction.md).
 
 1. make_system(integrator="shardlow") integrates with Shardlow at the default
-   dt = 0.04; an unknown integrator or dt <= 0 is a ValueError, nothing built.
+   dt (0.04 up to R = 2, 0.03 above); an unknown integrator or dt <= 0 is a
+   ValueError, nothing built.
 2. The sampling intervals follow the time step (every ~0.05 / 0.1 tau).
 3. The Fig. 4 sample run in pieces (--stop-after, then --resume) gives the same
    runs, to the last bit, as one uninterrupted invocation: every (gamma, seed)
@@ -40,6 +41,9 @@ def test_integrator_choice():
     assert s2.time_step == pytest.approx(0.01)
     assert s2.integrator.get_state()["name"] == "VelocityVerlet"
     assert cr.every(s2, 0.05) == 5 and cr.every(s2, 0.1) == 10
+    # Shardlow's step shrinks above R = 2 (the marble's WCA wall, advisor.marble_dt)
+    assert cr.default_dt("shardlow", 2.0) == 0.04 and cr.default_dt("shardlow", 3.0) == 0.03
+    assert cr.default_dt("vv", 3.0) == 0.01
     with pytest.raises(ValueError, match="integrator must be one of"):
         cr.make_system(6.0, 1.5, 5.0, 1, integrator="euler")
     with pytest.raises(ValueError, match="dt must be > 0"):

@@ -49,6 +49,16 @@ BOUNDARY = {"marble": "stick", "srd": "stick", "core": "slip"}
 ROTATES = {"marble": True, "srd": True, "core": False}
 
 
+def marble_dt(R):
+    """Shardlow step of the marble scene: 0.04 (the bench's) up to R = 2; 0.03
+    for larger colloids. At R = 3 (L = 12, drag at v = 0.12, skin 0.4) dt = 0.04
+    sent a bead through the marble's WCA wall fast enough to move 0.40-0.50 in
+    one step in 3 of 3 runs within 190-440 time units (the integrator's check
+    stops the run); dt = 0.03 ran 5 of 5 runs of 1000-2000 time units, and
+    R = 2 at 0.04 ran 3 of 3 runs of 1500 (doc/speed-accuracy.md)."""
+    return 0.04 if _pos("R", R) <= 2.0 else 0.03
+
+
 def core_dt(R):
     """VV step of the core-modified colloid: the colloid-solvent hat's
     stiffness F_cs / r'_c (1190 at R = 2, 5600 at R = 3) limits it to about
@@ -98,12 +108,12 @@ class Scene:
     def _make_marble(self, seed):
         from .colloid_runs import marble_box
         st = SETTINGS["marble"]
-        self.dt = st["dt"]
+        self.dt = marble_dt(self.R)
         # stick: tunable slip at gamma = 5; slip: central forces only; partial: tunable slip at gamma
         coupling = "dpd" if self.boundary == "slip" else "tunable_slip"
         gamma = self.gamma if self.boundary == "partial" else st["gamma_marble"]
         s, col, sol = marble_box(self.L, self.R, gamma, seed, rho=st["rho"],
-                                 gamma_dpd=st["gamma_dpd"], kT=KT, dt=st["dt"], coupling=coupling,
+                                 gamma_dpd=st["gamma_dpd"], kT=KT, dt=self.dt, coupling=coupling,
                                  skin=0.5)
         s.integrator.set_shardlow()
         self._keep(s, col, len(sol))
@@ -244,10 +254,13 @@ def _pos(name, x):
 
 
 def model_dt(model, R, table=None):
-    """The time step the bench used for ``model`` (the core-modified colloid's
-    VV step shrinks with the stiffness of its thin colloid-solvent shell)."""
+    """The time step of ``model`` at radius R (the core-modified colloid's
+    VV step shrinks with the stiffness of its thin colloid-solvent shell; the
+    marble's Shardlow step is 0.03 above R = 2, marble_dt)."""
     _check_model(model)
-    return core_dt(R) if model == "core" else float(SETTINGS[model]["dt"])
+    if model == "core":
+        return core_dt(R)
+    return marble_dt(R) if model == "marble" else float(SETTINGS[model]["dt"])
 
 
 def n_particles(model, R, L):

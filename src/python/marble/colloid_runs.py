@@ -54,11 +54,16 @@ def marble_box(L, R, gamma, seed, rho=RHO, gamma_dpd=GAMMA_DPD, kT=KT, dt=DT, ma
 INTEGRATORS = ("vv", "shardlow")
 
 
-def default_dt(integrator):
-    """The samples' time step for @p integrator: the paper's 0.01 for velocity
-    Verlet, 0.04 for Shardlow (doc/speed-accuracy.md: kT within 0.1 %, eta and
-    the colloid's D unchanged within 2 %, the cheapest choice per tau)."""
-    return {"vv": DT, "shardlow": 0.04}[check_integrator(integrator)]
+def default_dt(integrator, R):
+    """The samples' time step for @p integrator and a marble of radius @p R:
+    the paper's 0.01 for velocity Verlet; for Shardlow the advisor's
+    marble_dt(R), 0.04 up to R = 2 and 0.03 above (at R = 3, dt = 0.04 lets
+    rare beads hit the marble's WCA wall hard enough to move more than the
+    skin in one step; doc/speed-accuracy.md)."""
+    if check_integrator(integrator) == "vv":
+        return DT
+    from .advisor import marble_dt
+    return marble_dt(R)
 
 
 def check_integrator(integrator):
@@ -83,8 +88,8 @@ def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0, integra
     centre (marble_box); total momentum set to zero; `warmup` tau of equilibration.
     ``integrator`` is "vv" (velocity Verlet, the paper's) or "shardlow" (the DPD
     pairs by Shardlow's exact pair update, doc/dpd.md); ``dt`` defaults to
-    default_dt(integrator)."""
-    dt = default_dt(integrator) if dt is None else float(dt)
+    default_dt(integrator, R)."""
+    dt = default_dt(integrator, R) if dt is None else float(dt)
     if not dt > 0:
         raise ValueError(f"dt must be > 0, got {dt}")
     system, colloid, solvent = marble_box(L, R, gamma, seed, coupling=coupling, dt=dt)
@@ -264,13 +269,15 @@ def common_args(description, default_time, paper_time):
                    help="vv: velocity Verlet (the paper's); shardlow: Shardlow's exact DPD pair "
                         "update (doc/speed-accuracy.md's choice at dt = 0.04)")
     p.add_argument("--dt", type=float, default=None,
-                   help="time step (default 0.01 with vv, 0.04 with shardlow)")
+                   help="time step (default 0.01 with vv; with shardlow 0.04 up to R = 2, "
+                        "0.03 above)")
     return p
 
 
-def integration_args(args):
-    """(integrator, dt) from the parsed common_args, dt defaulted and checked."""
-    dt = default_dt(args.integrator) if args.dt is None else args.dt
+def integration_args(args, R):
+    """(integrator, dt) from the parsed common_args for a marble of radius R,
+    dt defaulted (default_dt) and checked."""
+    dt = default_dt(args.integrator, R) if args.dt is None else args.dt
     if not dt > 0:
         raise ValueError(f"--dt must be > 0, got {dt}")
     return args.integrator, dt
