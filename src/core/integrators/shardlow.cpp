@@ -29,6 +29,7 @@
 // friction of v(t + dt) minus that of v(t + dt/2). Colloid and wall friction
 // stay explicit.
 #include "integrators/dpd_integrators.hpp"
+#include "forces/pair_simd.hpp"
 #include "forces/pair_traversal.hpp"
 #include "integrators/stability.hpp"
 #include "nonbonded/surface_friction_apply.hpp"
@@ -161,6 +162,43 @@ struct PairMasses {
   /** x / mu (a multiplication when that is exact). */
   double over_mu(double x) const { return mu_pow2 ? x * inv_mu : x / mu; }
 };
+/** for_each_pair_block with the SIMD row select of the force pass
+ * (forces/pair_simd.hpp: the same pairs by the same test, the same
+ * differences d = r_i - r_j, in list order; blocks of at most @p limit + 4
+ * selected pairs): calls fn(PairBlock const &, PairBlockSoA const &) with
+ * the pairs and their d in B.dx, B.dy, B.dz. */
+template <class Fn>
+void for_each_selected_block(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
+                             PairBlockSoA &B, Fn &&fn) {
+  constexpr int limit = 248;
+  static_assert(limit + 4 <= kPairBlock);
+  int const nt = ia.n_types();
+  auto cut2 = pair_cut2_table(ia);
+  if (cut2.empty())
+    cut2.push_back(0.);
+  auto const *const pos = ps.pos.data();
+  auto const *const typ = ps.type.data();
+  std::array<std::array<int, 2>, kPairBlock> bij;
+  PairBlock b;
+  auto process = [&](int n) {
+    if (n == 0)
+      return;
+    for (int s = 0; s < n; ++s)
+      b.i[s] = bij[s][0], b.j[s] = bij[s][1];
+    b.size = n;
+    fn(static_cast<PairBlock const &>(b), static_cast<PairBlockSoA const &>(B));
+  };
+  RowCursor cur;
+  int const n_rows = pairs.n_rows();
+  while (cur.i < n_rows)
+    process(pair_rows_select(pairs.row_start.data(), pairs.j.data(), n_rows, cur, limit, pos, typ, cut2.data(),
+                             nt, bij.data(), B));
+  std::size_t const n_extra = pairs.extra.size();
+  for (std::size_t b0 = 0; b0 < n_extra; b0 += limit) {
+    int const nb = static_cast<int>(std::min<std::size_t>(limit, n_extra - b0));
+    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2.data(), nt, bij.data(), B));
+  }
+}
 } // namespace
 
 void shardlow_sweep(System &sys) {
@@ -197,7 +235,8 @@ void shardlow_sweep(System &sys) {
   std::array<Vector3d, kPairBlock> xi_lub;
   bool const any_lub = ia.any_active<Lubrication>();
 #endif
-  for_each_pair_block(ps, sys.cells().pairs(), ia, [&](PairBlock const &b) {
+  auto const soa = std::make_unique<PairBlockSoA>();
+  for_each_selected_block(ps, sys.cells().pairs(), ia, *soa, [&](PairBlock const &b, PairBlockSoA const &D) {
     // the noise of the block's pairs (independent draws the CPU overlaps)
     if (kT > 0.)
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
@@ -216,7 +255,7 @@ void shardlow_sweep(System &sys) {
     // exponentials and divisions)
     for (int s = 0; s < b.size; ++s) {
       int const i = b.i[s], j = b.j[s];
-      Vector3d const d = ps.pos[i] - ps.pos[j];
+      Vector3d const d{D.dx[s], D.dy[s], D.dz[s]}; // ps.pos[i] - ps.pos[j]
       double const r2 = d.norm2();
       unsigned char f = 0;
       if (r2 > 0.) {
