@@ -16,7 +16,10 @@ Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
 L = 20: 24 000 beads), Groot-Warren water (a = 25, gamma = 4.5), the LJ fluid of
 LAMMPS's in.lj (32 000 atoms), and the same paper solvent with one R = 3 marble
 colloid (bench/marble_overhead.py's scene: its cost relative to the bare
-solvent is the marble overhead).
+solvent is the marble overhead). Two more cases, not run unless named in
+--cases: shardlow_a0_g5 and shardlow_marble, the paper solvent alone and with
+the marble under the Shardlow integrator at dt = 0.04 (the rate is also
+printed as CPU-s per tau: N / (rate dt)).
 """
 import argparse
 import json
@@ -30,6 +33,10 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CASES = ("dpd_a0_g5", "dpd_a25_g4.5", "lj", "marble")
+# not in the default set: the Shardlow integrator at dt = 0.04 (doc/speed-accuracy.md's choice for
+# the paper solvent) on the paper solvent alone and with the R = 3 marble (session 11)
+SHARDLOW_CASES = ("shardlow_a0_g5", "shardlow_marble")
+N_PARTICLES = {}  # case -> particle count of its last worker
 
 
 def worker(case, steps):
@@ -48,7 +55,8 @@ def worker(case, steps):
         L = 20.0
         n = int(3 * L ** 3)
         s = marble.System(box_l=[L] * 3)
-        s.time_step = 0.01
+        shardlow = case.startswith("shardlow_")
+        s.time_step = 0.04 if shardlow else 0.01
         s.cell_system.skin = 0.6
         s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
         s.thermostat.set_dpd(kT=1.0, seed=7)
@@ -56,7 +64,9 @@ def worker(case, steps):
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma, k=1.0, r_cut=1.0)
         if case == "dpd_a25_g4.5":
             s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
-        if case == "marble":
+        if shardlow:
+            s.integrator.set_shardlow()
+        if case in ("marble", "shardlow_marble"):
             from marble.colloids import add_marble
             add_marble(s, pos=[L / 2] * 3, radius=3.0, gamma=5.0)
         s.integrator.run(60)
@@ -65,8 +75,8 @@ def worker(case, steps):
     n = len(s.part)
     c0 = time.process_time()
     s.integrator.run(steps)
-    print(json.dumps({"case": case, "rate": n * steps / (time.process_time() - c0),
-                      "module": os.path.realpath(marble.__file__)}))
+    print(json.dumps({"case": case, "rate": n * steps / (time.process_time() - c0), "n": n,
+                      "dt": s.time_step, "module": os.path.realpath(marble.__file__)}))
 
 
 def build_ref(ref, where):
@@ -98,6 +108,7 @@ def run_case(launcher, case, steps):
     if not res["module"].startswith(build + os.sep):
         raise RuntimeError(f"{launcher} imported marble from {res['module']}, not from its own build {build}: "
                            "is its Python package built (make marble_python)?")
+    N_PARTICLES[case] = res.get("n")
     return res["rate"]
 
 
@@ -107,7 +118,8 @@ def main(argv=None):
     ap.add_argument("--baseline-build", help="an existing build dir of the baseline (skips building)")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--steps", type=int, default=200)
-    ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--cases", default=",".join(CASES),
+                    help="comma-separated, from " + ", ".join(CASES + SHARDLOW_CASES))
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--out-name", default="compare_builds.json", help=argparse.SUPPRESS)
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -149,6 +161,10 @@ def main(argv=None):
         out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c],
                                round_ratios=rr)
         print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}")
+        if c in SHARDLOW_CASES:  # N / (rate dt): CPU-seconds per unit of time tau at dt = 0.04
+            tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * 0.04) for w in ("current", "baseline")}
+            out["cases"][c]["cpu_s_per_tau"] = tau
+            print(f"{'':14s} CPU-s per tau: {tau['current']:.4f} (current), {tau['baseline']:.4f} (baseline)")
     if "marble" in cases and "dpd_a0_g5" in cases:
         for w in ("current", "baseline"):
             ov = out["cases"]["dpd_a0_g5"][w] / out["cases"]["marble"][w]

@@ -181,6 +181,26 @@ void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const 
   });
 }
 
+/** False if no kernel of @p mask is active on a type pair the main list
+ * serves (max_cut2 > 0; pairs of large types go to the colloid list): then
+ * the pair loop would select the listed pairs only to add +-0 to forces that
+ * start at +0, which leaves them +0, the same bits as zeroing them. */
+bool mask_acts_on_list(InteractionTable const &ia, unsigned mask) {
+  bool any = false;
+  int const nt = ia.n_types();
+  for (int a = 0; a < nt && mask != 0; ++a)
+    for (int b = 0; b < nt; ++b) {
+      IAParams const &p = ia.get(a, b);
+      if (!(p.max_cut2 > 0.))
+        continue;
+      for_each_kernel<PairLoopKernels>([&]<class K>() {
+        if ((mask & pair_loop_bit<K>) != 0 && p.get<K>().active)
+          any = true;
+      });
+    }
+  return any;
+}
+
 using LoopFn = void (*)(ParticleStore &, PairList const &, InteractionTable const &, NoiseContext const &);
 
 template <std::size_t... M> constexpr std::array<LoopFn, sizeof...(M)> make_loops(std::index_sequence<M...>) {
@@ -203,7 +223,11 @@ void System::compute_forces(bool with_thermostat) {
   // dissipative kernels need the thermostat; with Shardlow the integrator does them
   if (!th.on || !m_dpd_in_pair_loop)
     mask &= ~pair_kernels_with_role<KernelRole::pair_dissipative>();
-  loops[mask](m_ps, m_cells.pairs(), m_ia, th);
+  if (mask_acts_on_list(m_ia, mask))
+    loops[mask](m_ps, m_cells.pairs(), m_ia, th);
+  else // e.g. a DPD-only solvent under Shardlow: the loop would add only zeros
+    for (auto &f : m_ps.f)
+      f = {};
   add_extra_forces(with_thermostat); // colloid pairs, constraints
   m_cells.reduce_ghost_forces(m_ps);
   if (with_thermostat && m_thermo.langevin.active) // single-particle Langevin friction + noise

@@ -29,6 +29,7 @@
 // friction of v(t + dt) minus that of v(t + dt/2). Colloid and wall friction
 // stay explicit.
 #include "integrators/dpd_integrators.hpp"
+#include "forces/pair_simd.hpp"
 #include "forces/pair_traversal.hpp"
 #include "integrators/stability.hpp"
 #include "nonbonded/surface_friction_apply.hpp"
@@ -39,6 +40,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
 
 namespace Marble {
 
@@ -97,6 +101,106 @@ struct LEJump {
 } // namespace
 
 #ifdef DPD
+namespace {
+/** What the DPD update of each selected pair of a block needs that depends on
+ * positions, masses and noise only (integrators/shardlow.cpp, pre-pass): the
+ * same expressions as the one-pass loop had, so the same bits. */
+struct SweepBlock {
+  enum : unsigned char { in_range = 1, dpd = 2, radial = 4, trans = 8, unit_masses = 16 };
+  std::array<unsigned char, kPairBlock> flags;
+  std::array<int, kPairBlock> oi, oj;
+  std::array<Vector3d, kPairBlock> e;
+  std::array<double, kPairBlock> ar, nr; // radial: a - 1 and s (e . xi)
+  std::array<double, kPairBlock> mu, mi, mj, kT_mu;
+#ifdef TRANS_DPD
+  std::array<double, kPairBlock> at;  // transverse: a - 1
+  std::array<Vector3d, kPairBlock> nt; // and s (xi - (e . xi) e)
+#endif
+};
+/** True if @p c is a power of two whose reciprocal is a normal number: then
+ * x / c and x * (1 / c) are the same real number rounded once, so the same
+ * double, whatever x (forces/pair_simd.cpp has the same test). */
+bool exact_reciprocal(double c) {
+  int e = 0;
+  return c > 0. && std::frexp(c, &e) == 0.5 && e > -1000 && e < 1000;
+}
+
+/** DPDWeight::weight with the division by r_cut a multiplication where that
+ * is exact (@p inv_rc = 1 / r_cut, @p pow2 = exact_reciprocal(r_cut)): the same bits. */
+inline double dpd_weight(DPDWeight const &wp, double r, double inv_rc, bool pow2) {
+  if (r >= wp.r_cut)
+    return 0.;
+  if (wp.weight_function == 0)
+    return 1.;
+  double const x = pow2 ? r * inv_rc : r / wp.r_cut;
+  return 1. - (wp.k == 1. ? x : std::pow(x, wp.k));
+}
+
+/** Per type pair: the reciprocal cutoffs of the DPD weights and whether they are exact. */
+struct SweepTypePair {
+  double inv_rc = 0., inv_rct = 0.;
+  bool pow2 = false, pow2t = false;
+};
+
+/** mu = mi mj / (mi + mj) and what follows from it, for the last pair's
+ * masses: consecutive pairs mostly have the same (a solvent of one mass), and
+ * the same operations on the same masses give the same bits. */
+struct PairMasses {
+  double mi = std::numeric_limits<double>::quiet_NaN(), mj = mi; // NaN: no pair yet
+  double mu = 0., mfac = 1., kT_over_mu = 0., inv_mu = 0.;
+  bool mu_pow2 = false;
+  void set(double a, double b, double kT) {
+    if (a == mi && b == mj)
+      return;
+    mi = a, mj = b;
+    mu = a * b / (a + b);
+    mfac = dpd_mass_factor(a, b);
+    kT_over_mu = kT / mu;
+    mu_pow2 = exact_reciprocal(mu);
+    inv_mu = 1. / mu;
+  }
+  /** x / mu (a multiplication when that is exact). */
+  double over_mu(double x) const { return mu_pow2 ? x * inv_mu : x / mu; }
+};
+/** for_each_pair_block with the SIMD row select of the force pass
+ * (forces/pair_simd.hpp: the same pairs by the same test, the same
+ * differences d = r_i - r_j, in list order; blocks of at most @p limit + 4
+ * selected pairs): calls fn(PairBlock const &, PairBlockSoA const &) with
+ * the pairs and their d in B.dx, B.dy, B.dz. */
+template <class Fn>
+void for_each_selected_block(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
+                             PairBlockSoA &B, Fn &&fn) {
+  constexpr int limit = 248;
+  static_assert(limit + 4 <= kPairBlock);
+  int const nt = ia.n_types();
+  auto cut2 = pair_cut2_table(ia);
+  if (cut2.empty())
+    cut2.push_back(0.);
+  auto const *const pos = ps.pos.data();
+  auto const *const typ = ps.type.data();
+  std::array<std::array<int, 2>, kPairBlock> bij;
+  PairBlock b;
+  auto process = [&](int n) {
+    if (n == 0)
+      return;
+    for (int s = 0; s < n; ++s)
+      b.i[s] = bij[s][0], b.j[s] = bij[s][1];
+    b.size = n;
+    fn(static_cast<PairBlock const &>(b), static_cast<PairBlockSoA const &>(B));
+  };
+  RowCursor cur;
+  int const n_rows = pairs.n_rows();
+  while (cur.i < n_rows)
+    process(pair_rows_select(pairs.row_start.data(), pairs.j.data(), n_rows, cur, limit, pos, typ, cut2.data(),
+                             nt, bij.data(), B));
+  std::size_t const n_extra = pairs.extra.size();
+  for (std::size_t b0 = 0; b0 < n_extra; b0 += limit) {
+    int const nb = static_cast<int>(std::min<std::size_t>(limit, n_extra - b0));
+    process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2.data(), nt, bij.data(), B));
+  }
+}
+} // namespace
+
 void shardlow_sweep(System &sys) {
   auto &ps = sys.particles();
   auto const &ia = sys.interactions();
@@ -105,6 +209,22 @@ void shardlow_sweep(System &sys) {
   double const kT = sys.thermostat().dpd.kT;
   LEJump const le_jump(sys);
   std::array<Vector3d, kPairBlock> xi;
+  auto const blk = std::make_unique<SweepBlock>();
+  SweepBlock &B = *blk;
+  int const n_types = ia.n_types();
+  std::vector<SweepTypePair> tp(static_cast<std::size_t>(n_types) * n_types);
+  for (int t1 = 0; t1 < n_types; ++t1)
+    for (int t2 = 0; t2 < n_types; ++t2) {
+      DPDParams const &p = ia.get(t1, t2).get<DPDPair>();
+      SweepTypePair &q = tp[t1 * n_types + t2];
+      q.pow2 = exact_reciprocal(p.radial.r_cut);
+      q.inv_rc = q.pow2 ? 1. / p.radial.r_cut : 0.;
+#ifdef TRANS_DPD
+      q.pow2t = exact_reciprocal(p.trans.r_cut);
+      q.inv_rct = q.pow2t ? 1. / p.trans.r_cut : 0.;
+#endif
+    }
+  PairMasses pm;
 #ifdef TRANS_DPD
   bool const any_sf = ia.any_active<SurfaceFriction>();
   // shared shells (one rank: positions fixed during the sweep)
@@ -115,9 +235,9 @@ void shardlow_sweep(System &sys) {
   std::array<Vector3d, kPairBlock> xi_lub;
   bool const any_lub = ia.any_active<Lubrication>();
 #endif
-  for_each_pair_block(ps, sys.cells().pairs(), ia, [&](PairBlock const &b) {
-    // the noise of the block's pairs (independent draws the CPU overlaps), then
-    // the sequential exact pair updates in list order
+  auto const soa = std::make_unique<PairBlockSoA>();
+  for_each_selected_block(ps, sys.cells().pairs(), ia, *soa, [&](PairBlock const &b, PairBlockSoA const &D) {
+    // the noise of the block's pairs (independent draws the CPU overlaps)
     if (kT > 0.)
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
     else
@@ -130,88 +250,166 @@ void shardlow_sweep(System &sys) {
         std::fill(xi_lub.begin(), xi_lub.begin() + b.size, Vector3d{});
     }
 #endif
+    // pre-pass: the DPD pair update's factors, which do not depend on the
+    // velocities (independent pairs: the CPU overlaps their square roots,
+    // exponentials and divisions)
     for (int s = 0; s < b.size; ++s) {
       int const i = b.i[s], j = b.j[s];
-      IAParams const &pair = ia.get(ps.type[i], ps.type[j]);
-      Vector3d const d = ps.pos[i] - ps.pos[j];
+      Vector3d const d{D.dx[s], D.dy[s], D.dz[s]}; // ps.pos[i] - ps.pos[j]
       double const r2 = d.norm2();
-      if (!(r2 > 0.))
+      unsigned char f = 0;
+      if (r2 > 0.) {
+        f = SweepBlock::in_range;
+        int const ti = ps.type[i], tj = ps.type[j];
+        DPDParams const &p = ia.get(ti, tj).get<DPDPair>();
+        if (p.active) {
+          SweepTypePair const &q = tp[ti * n_types + tj];
+          double const r = std::sqrt(r2);
+          double const w = dpd_weight(p.radial, DPDPair::gap(p, r), q.inv_rc, q.pow2);
+#ifdef TRANS_DPD
+          double const wt = dpd_weight(p.trans, DPDPair::gap(p, r), q.inv_rct, q.pow2t);
+          bool const acts = !(w <= 0. && wt <= 0.);
+#else
+          bool const acts = !(w <= 0.);
+#endif
+          if (acts) {
+            f |= SweepBlock::dpd;
+            int const oi = owner(ps, i), oj = owner(ps, j);
+            double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
+            pm.set(mi, mj, kT);
+            double const mu = pm.mu, mfac = pm.mfac;
+            Vector3d const e = d / r;
+            B.oi[s] = oi, B.oj[s] = oj, B.mi[s] = mi, B.mj[s] = mj, B.mu[s] = mu, B.e[s] = e;
+            // x / 1 is x: unit masses need no division in the velocity pass
+            if (mi == 1. && mj == 1.)
+              f |= SweepBlock::unit_masses;
+            // the rates lambda dt of the OU steps (their factors follow below)
+            if (w > 0. && p.radial.gamma > 0.) {
+              B.ar[s] = pm.over_mu(p.radial.gamma * mfac * w * w * dt);
+              B.kT_mu[s] = pm.kT_over_mu;
+              f |= SweepBlock::radial;
+            }
+#ifdef TRANS_DPD
+            if (wt > 0. && p.trans.gamma > 0.) {
+              B.at[s] = pm.over_mu(p.trans.gamma * mfac * wt * wt * dt);
+              B.kT_mu[s] = pm.kT_over_mu;
+              f |= SweepBlock::trans;
+            }
+#endif
+          }
+        }
+      }
+      B.flags[s] = f;
+    }
+    // the OU factors (struct OU, in separate loops: the exponentials of
+    // independent pairs overlap, and so do the square roots after them)
+    for (int s = 0; s < b.size; ++s) {
+      if (B.flags[s] & SweepBlock::radial)
+        B.ar[s] = std::exp(-B.ar[s]);
+#ifdef TRANS_DPD
+      if (B.flags[s] & SweepBlock::trans)
+        B.at[s] = std::exp(-B.at[s]);
+#endif
+    }
+    for (int s = 0; s < b.size; ++s) {
+      unsigned const f = B.flags[s];
+      if (f & SweepBlock::radial) {
+        double const a = B.ar[s];
+        double const sd = std::sqrt(12. * B.kT_mu[s] * (1. - a * a)); // sqrt(12): xi has variance 1/12
+        B.ar[s] = a - 1.;
+        B.nr[s] = sd * (B.e[s] * xi[s]);
+      }
+#ifdef TRANS_DPD
+      if (f & SweepBlock::trans) {
+        double const a = B.at[s];
+        double const sd = std::sqrt(12. * B.kT_mu[s] * (1. - a * a));
+        Vector3d const &e = B.e[s];
+        Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
+        B.at[s] = a - 1.;
+        B.nt[s] = sd * xi_perp;
+      }
+#endif
+    }
+    // the sequential exact pair updates in list order
+    for (int s = 0; s < b.size; ++s) {
+      unsigned const f = B.flags[s];
+      if (!(f & SweepBlock::in_range))
         continue;
+      int const i = b.i[s], j = b.j[s];
       // Lees-Edwards: the jump of v_i - v_j across the shear plane (none
       // for local-local pairs)
       bool const jump = le_jump.on && (i >= ps.n_local() || j >= ps.n_local());
       Vector3d const vjump = jump ? le_jump.pair(ps, i, j) : Vector3d{};
       // the DPD pair update
-      [&] {
-        DPDParams const &p = pair.get<DPDPair>();
-        if (!p.active)
-          return;
-        double const r = std::sqrt(r2);
-        double const w = p.radial.weight(DPDPair::gap(p, r));
-#ifdef TRANS_DPD
-        double const wt = p.trans.weight(DPDPair::gap(p, r));
-        if (w <= 0. && wt <= 0.)
-          return;
-#else
-        if (w <= 0.)
-          return;
-#endif
-        int const oi = owner(ps, i), oj = owner(ps, j);
-        double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
-        double const mu = mi * mj / (mi + mj);
-        double const mfac = dpd_mass_factor(mi, mj);
-        Vector3d const e = d / r;
+      if (f & SweepBlock::dpd) {
+        int const oi = B.oi[s], oj = B.oj[s];
+        Vector3d const &e = B.e[s];
         Vector3d const vij = jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj];
         double const u = e * vij;
         Vector3d du{};
-        if (w > 0. && p.radial.gamma > 0.) {
-          OU const ou(p.radial.gamma * mfac * w * w * dt / mu, kT / mu);
-          du = ((ou.a - 1.) * u + ou.s * (e * xi[s])) * e;
-        }
+        if (f & SweepBlock::radial)
+          du = (B.ar[s] * u + B.nr[s]) * e;
 #ifdef TRANS_DPD
-        if (wt > 0. && p.trans.gamma > 0.) {
-          OU const ou(p.trans.gamma * mfac * wt * wt * dt / mu, kT / mu);
+        if (f & SweepBlock::trans) {
           Vector3d const u_perp = vij - u * e;
-          Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
-          du += (ou.a - 1.) * u_perp + ou.s * xi_perp;
+          du += B.at[s] * u_perp + B.nt[s];
         }
 #endif
-        Vector3d const dp = mu * du;
-        ps.v[oi] += dp / mi;
-        ps.v[oj] -= dp / mj;
-      }();
-#ifdef TRANS_DPD
-      // the stick friction's exact update of the pair's tangential contact
-      // velocity, spins included (nonbonded/surface_friction_apply.hpp)
-      if (any_sf) {
-        SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
-        if (sp.active)
-          surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise,
-                                       surface_friction_scale(sp, sf_shells, i, j), jump ? &vjump : nullptr);
+        Vector3d const dp = B.mu[s] * du;
+        if (f & SweepBlock::unit_masses) {
+          ps.v[oi] += dp;
+          ps.v[oj] -= dp;
+        } else {
+          ps.v[oi] += dp / B.mi[s];
+          ps.v[oj] -= dp / B.mj[s];
+        }
       }
+#if defined(TRANS_DPD) || defined(LUBRICATION)
+      if (
+#ifdef TRANS_DPD
+          any_sf ||
 #endif
 #ifdef LUBRICATION
-      // then the pair's lubrication, its own exact OU step along e (rate
-      // a_sq/mu; composing the two OU steps is exact: both keep the variance
-      // kT/mu): the stiff near-contact friction does not limit dt
-      if (any_lub) {
-        Lubrication::Params const &lp = pair.get<Lubrication>();
-        if (!lp.active)
-          continue;
-        double const r = std::sqrt(r2);
-        double const h = r - lp.offset;
-        if (h >= lp.h_cut)
-          continue;
-        int const oi = owner(ps, i), oj = owner(ps, j);
-        double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
-        double const mu = mi * mj / (mi + mj);
-        Vector3d const e = d / r;
-        double const u = e * (jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj]);
-        OU const ou(Lubrication::friction(lp, h) * dt / mu, kT / mu);
-        double const du = (ou.a - 1.) * u + ou.s * Lubrication::noise_weight(lp, h) * (e * xi_lub[s]);
-        Vector3d const dp = (mu * du) * e;
-        ps.v[oi] += dp / mi;
-        ps.v[oj] -= dp / mj;
+          any_lub ||
+#endif
+          false) {
+        IAParams const &pair = ia.get(ps.type[i], ps.type[j]);
+        Vector3d const d = ps.pos[i] - ps.pos[j];
+        [[maybe_unused]] double const r2 = d.norm2();
+#ifdef TRANS_DPD
+        // the stick friction's exact update of the pair's tangential contact
+        // velocity, spins included (nonbonded/surface_friction_apply.hpp)
+        if (any_sf) {
+          SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
+          if (sp.active)
+            surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise,
+                                         surface_friction_scale(sp, sf_shells, i, j), jump ? &vjump : nullptr);
+        }
+#endif
+#ifdef LUBRICATION
+        // then the pair's lubrication, its own exact OU step along e (rate
+        // a_sq/mu; composing the two OU steps is exact: both keep the variance
+        // kT/mu): the stiff near-contact friction does not limit dt
+        if (any_lub) {
+          Lubrication::Params const &lp = pair.get<Lubrication>();
+          if (!lp.active)
+            continue;
+          double const r = std::sqrt(r2);
+          double const h = r - lp.offset;
+          if (h >= lp.h_cut)
+            continue;
+          int const oi = owner(ps, i), oj = owner(ps, j);
+          double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
+          double const mu = mi * mj / (mi + mj);
+          Vector3d const e = d / r;
+          double const u = e * (jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj]);
+          OU const ou(Lubrication::friction(lp, h) * dt / mu, kT / mu);
+          double const du = (ou.a - 1.) * u + ou.s * Lubrication::noise_weight(lp, h) * (e * xi_lub[s]);
+          Vector3d const dp = (mu * du) * e;
+          ps.v[oi] += dp / mi;
+          ps.v[oj] -= dp / mj;
+        }
+#endif
       }
 #endif
     }

@@ -1,0 +1,150 @@
+"""Fixed-seed end states of Shardlow scenes, for bit-for-bit checks of work on the pair sweep.
+
+    build/pymarble bench/shardlow_states.py OUT.npz                    # dump this build's end states
+    build/pymarble bench/shardlow_states.py OUT.npz --compare REF.npz  # and compare with another build's
+
+The companion of bench/fixed_seed_states.py (whose one Shardlow scene is Groot-Warren water) for the
+paths of integrators/shardlow.cpp's sweep (session 11, issue 15): the marble paper's solvent (a = 0,
+gamma = 5) at dt = 0.04, the same with an R = 2 marble, transverse DPD with two types, different cutoffs
+and unequal masses (the division path), colloids with surface friction, lubrication and contact forces
+and Lees-Edwards shear (the sweep's other updates), and a box smaller than twice the range (ghost images
+of one particle). Saves positions, velocities (and spins where they rotate) by particle id after a few
+dozen steps. With --compare, prints max |difference| per array and exits 1 unless all are exactly 0.
+A scene whose features are not compiled in is skipped (and said so).
+"""
+import argparse
+import sys
+
+import numpy as np
+
+import marble
+
+
+def box(L, n, seed, dt=0.04, skin=0.4, mass=None):
+    rng = np.random.default_rng(seed)
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = dt
+    s.cell_system.skin = skin
+    kw = {} if mass is None else {"mass": mass(rng, n)}
+    s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)), **kw)
+    s.thermostat.set_dpd(kT=1.0, seed=seed)
+    return s
+
+
+def state(s, out, name):
+    p = s.part.all()
+    o = np.argsort(np.asarray(p.id))
+    out[name + "_pos"] = np.asarray(p.pos)[o]
+    out[name + "_v"] = np.asarray(p.v)[o]
+    if hasattr(p, "omega_lab"):
+        try:
+            out[name + "_omega"] = np.asarray(p.omega_lab)[o]
+        except marble.FeaturesError:
+            pass
+
+
+def scenes():
+    def paper(out):
+        s = box(8.0, 1536, 21)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+        s.integrator.set_shardlow()
+        s.integrator.run(40)
+        state(s, out, "paper")
+
+    def marble_scene(out):
+        from marble.colloids import add_marble
+        s = box(10.0, 3000, 22)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+        add_marble(s, pos=[5.0] * 3, radius=2.0, gamma=5.0)
+        s.integrator.set_shardlow()
+        s.integrator.run(40)
+        state(s, out, "marble")
+
+    def trans_masses(out):
+        s = box(8.0, 1536, 23, dt=0.02, mass=lambda rng, n: rng.choice([1.0, 2.5], size=n))
+        for pid in range(0, 1536, 3):
+            s.part.by_id(pid).type = 1
+        nb = s.non_bonded_inter
+        nb[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0,
+                                trans_weight_function=1, trans_gamma=3.0, trans_r_cut=1.0)
+        nb[0, 1].dpd.set_params(weight_function=1, gamma=3.0, k=2.0, r_cut=1.2,
+                                trans_weight_function=0, trans_gamma=1.0, trans_r_cut=0.7)
+        nb[1, 1].dpd.set_params(weight_function=0, gamma=0.0, r_cut=0.9,
+                                trans_weight_function=1, trans_gamma=2.0, trans_r_cut=0.9)
+        nb[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
+        s.integrator.set_shardlow()
+        s.integrator.run(30)
+        state(s, out, "trans_masses")
+
+    def small_box(out):
+        s = box(2.5, 47, 24)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+        s.integrator.set_shardlow()
+        s.integrator.run(40)
+        state(s, out, "small")
+
+    def colloids(out):
+        """Surface friction (colloid-colloid pairs in the main list), lubrication and contact."""
+        L = 12.0
+        rng = np.random.default_rng(25)
+        s = marble.System(box_l=[L] * 3)
+        s.time_step = 0.005
+        grid = np.stack(np.meshgrid(*[np.arange(3) * 4.0] * 3), -1).reshape(-1, 3)
+        s.part.add(pos=grid + 0.2 * rng.random(grid.shape), v=rng.normal(size=grid.shape),
+                   mass=rng.choice([1.0, 4.0], size=len(grid)), rotation=[[True] * 3] * len(grid),
+                   rinertia=[[1.5] * 3] * len(grid))
+        nb = s.non_bonded_inter
+        nb[0, 0].lubrication.set_params(eta=0.5, a1=1.8, a2=1.8, h_cut=0.8, log_term="on")
+        nb[0, 0].contact.set_params(f_contact=20.0, delta=0.05, offset=3.6)
+        nb[0, 0].surface_friction.set_params(gamma=5.0, r_cut=1.0, a1=1.8, a2=1.8)
+        nb[0, 0].dpd.set_params(weight_function=1, gamma=2.0, k=1.0, r_cut=4.5, offset=0.0)
+        s.thermostat.set_dpd(kT=1.0, seed=25)
+        s.integrator.set_shardlow()
+        s.integrator.run(200)
+        state(s, out, "colloids")
+
+    def lees_edwards(out):
+        import marble.lees_edwards as le
+        s = box(6.0, 648, 26, dt=0.02)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+        s.lees_edwards.set_boundary_conditions(
+            shear_direction="x", shear_plane_normal="y",
+            protocol=le.LinearShear(initial_pos_offset=0.3, shear_velocity=0.5, time_0=0.0))
+        s.integrator.set_shardlow()
+        s.integrator.run(40)
+        state(s, out, "lees_edwards")
+
+    return [("paper", paper), ("marble", marble_scene), ("trans_masses", trans_masses),
+            ("small_box", small_box), ("colloids", colloids), ("lees_edwards", lees_edwards)]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out")
+    ap.add_argument("--compare", help="reference .npz of another build")
+    args = ap.parse_args()
+    out = {}
+    for name, fn in scenes():
+        try:
+            fn(out)
+        except marble.FeaturesError as err:
+            print(f"{name}: skipped ({err})")
+    np.savez(args.out, **out)
+    if not args.compare:
+        return 0
+    ref = np.load(args.compare)
+    worst = 0.0
+    for k in sorted(set(ref.files) | set(out)):
+        if k not in ref.files or k not in out:
+            print(f"{k}: only in one of the two")
+            worst = np.inf
+            continue
+        d = float(np.max(np.abs(ref[k] - out[k]))) if ref[k].shape == out[k].shape else np.inf
+        worst = max(worst, d)
+        print(f"{k}: max |difference| = {d:.3g}")
+    print(f"max |difference| over all = {worst:.3g}")
+    return 0 if worst == 0.0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
