@@ -13,6 +13,15 @@ and box sizes (optionally with the squeeze lubrication on below a short core gap
     build/pymarble bench/suspension_shear_diagnosis.py table FILES [--eta0 0.3290 0.0030]
     build/pymarble bench/suspension_shear_diagnosis.py split FILES   # the split per scene
     build/pymarble bench/suspension_shear_diagnosis.py check-split
+    build/pymarble bench/suspension_shear_diagnosis.py run ... --mass-scale M   # section 7l
+    build/pymarble bench/suspension_shear_diagnosis.py mass FILES --eta0-files FILES
+
+``--mass-scale M`` multiplies every particle's mass and rotational inertia
+(samples/lees_edwards_suspension.py's ``scale_masses``): the particle Reynolds
+number changes at fixed radius, kT and friction; ``mass`` tabulates eta_r at
+phi = 0.3 per M, each relative to eta_0 measured at that M, with Re and Pe, and
+fits Lin, Peery & Schowalter's inertial law through Krieger-Dougherty
+(doc/suspensions.md 7l).
 
 ``--split`` records, at every stress sample, the xy stress of the
 solvent-solvent pairs, of the colloid-solvent pairs (conservative repulsion,
@@ -47,7 +56,7 @@ sys.path.insert(0, HERE)
 
 import marble  # noqa: E402
 from marble.viscosity import block_average  # noqa: E402
-from lees_edwards_suspension import scene, measure  # noqa: E402
+from lees_edwards_suspension import scene, measure, dimensionless  # noqa: E402
 
 COLLOID, SOLVENT = 1, 0  # setup_suspension's default types (checked at run time)
 KINDS_CS = ("hat", "dpd", "surface_friction")
@@ -122,7 +131,8 @@ def run(args):
     lub = args.lubrication_h_cut is not None
     s, info = scene(args.phi, args.box, args.dt, seed=args.seed, boundary="stick", shardlow=False,
                     solvent_count="bulk", lubrication=lub, colloid_dpd=False,
-                    h_cut=args.lubrication_h_cut if lub else 1.0, lubrication_form=args.lubrication_form)
+                    h_cut=args.lubrication_h_cut if lub else 1.0, lubrication_form=args.lubrication_form,
+                    mass_scale=args.mass_scale)
     rec = None
     if args.split:
         types = set(np.asarray(s.part.all().type).tolist())
@@ -131,7 +141,8 @@ def run(args):
         rec = SplitRecorder(s, COLLOID, SOLVENT)
         s.analysis.pressure_tensor = rec
     eta, err, slope, slope_err, kt = measure(s, args.rate, args.time)
-    row = dict(phi=info.get("phi", 0.0), phi_nominal=args.phi, boundary="stick" if stick else "solvent",
+    row = {} if args.mass_scale == 1.0 else dict(mass_scale=args.mass_scale)
+    row.update(phi=info.get("phi", 0.0), phi_nominal=args.phi, boundary="stick" if stick else "solvent",
                n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate, time=args.time,
                dt=args.dt, integrator="vv", seed=args.seed, eta=eta, eta_err=err,
                solvent_count="bulk" if stick else "exact", lubrication=lub if stick else None,
@@ -140,6 +151,9 @@ def run(args):
                lubrication_form=args.lubrication_form if (stick and lub) else None,
                n_solvent=len(info["solvent_ids"]) if stick else int(round(3.0 * np.prod(args.box))),
                cpu_s=time.process_time() - t0, wall_s=time.time() - w0, slope=slope, slope_err=slope_err, kT=kt)
+    if args.eta0 is not None:  # the solvent's viscosity at this mass: Re and Pe of the scene
+        row["eta0"] = list(args.eta0)
+        row["Re"], row["Pe"] = dimensionless(args.rate, args.eta0[0], args.mass_scale)
     if rec is not None:
         row["split"] = rec.result(args.rate)
     print(json.dumps(row))
@@ -206,13 +220,14 @@ def table(files, eta0=0.3290, eta0_err=0.0030):
                                             (r.get("lubrication", True) and r.get("h_cut", 1.0) == 1.0)):
             continue  # only the scenes without the double-counted kernels (or with a short-range lubrication)
         lub = r.get("h_cut") if r.get("lubrication") else None
-        key = (r["phi_nominal"], r["rate"], tuple(r["box"]), lub)
+        key = (r["phi_nominal"], r["rate"], tuple(r["box"]), lub, r.get("mass_scale", 1.0))
         groups.setdefault(key, []).append(r)
     out = []
-    for (pn, rate, box, lub), sel in sorted(groups.items(), key=lambda kv: (kv[0][:3], kv[0][3] or 0)):
+    for (pn, rate, box, lub, mscale), sel in sorted(groups.items(),
+                                                    key=lambda kv: (kv[0][4], kv[0][:3], kv[0][3] or 0)):
         phi = sel[0]["phi"]
         m, err, chi2 = weighted([r["eta"] for r in sel], [r["eta_err"] for r in sel])
-        d = dict(phi=phi, rate=rate, box=box, lubrication_h_cut=lub, seeds=[r["seed"] for r in sel], eta=m, eta_err=err, chi2=chi2,
+        d = dict(phi=phi, rate=rate, box=box, lubrication_h_cut=lub, mass_scale=mscale, seeds=[r["seed"] for r in sel], eta=m, eta_err=err, chi2=chi2,
                  per_seed=[(r["eta"] / eta0, r["eta_err"] / eta0, r["seed"]) for r in sel],
                  cpu_s=[round(r.get("cpu_s", 0)) for r in sel])
         if "split" in sel[0]:
@@ -250,6 +265,75 @@ def split_rows(files, eta0=0.3290):
     return out
 
 
+def mass_table(files, eta0_files, eta0_ref=(0.3290, 0.0030), phi_nominal=0.3):
+    """Section 7l: eta_r at phi_nominal for each particle mass scale M, each
+    relative to the solvent's eta_0 measured at the same M (the phi = 0 rows of
+    ``eta0_files``, weighted over seeds; M = 1 takes ``eta0_ref``, section 7f's
+    0.3290(30)), with Re = 3 M rate R^2/eta_0(M) and Pe = 6 pi eta_0 R^3 rate/kT.
+    eta_r's error: seeds (weighted, scaled by sqrt(chi^2/dof) where > 1) and
+    eta_0's added in quadrature. Then the inertial law of Lin, Peery &
+    Schowalter (J. Fluid Mech. 44, 1 (1970)), [eta] = 2.5 + c Re^(3/2), carried
+    through Krieger-Dougherty's exponent: ln eta_r = A + k c Re^(3/2) with
+    k = -phi_m ln(1 - phi/phi_m); c fitted (weighted least squares) and compared
+    with Lin's 1.34."""
+    rows = [json.loads(line) for f in files for line in open(f) if line.strip()]
+    e0rows = [json.loads(line) for f in eta0_files for line in open(f) if line.strip()]
+    eta0 = {1.0: (eta0_ref[0], eta0_ref[1], [], None)}
+    by_m = {}
+    for r in e0rows:
+        if r.get("phi_nominal", 0) == 0:
+            by_m.setdefault(r.get("mass_scale", 1.0), []).append(r)
+    for M, sel in by_m.items():
+        m, e, chi2 = weighted([r["eta"] for r in sel], [r["eta_err"] for r in sel])
+        split = None
+        if all("split" in r for r in sel):
+            split = {k: weighted([r["split"][k][0] for r in sel], [r["split"][k][1] for r in sel])[:2]
+                     for k in ("kinetic_solvent", "pair_ss")}
+        eta0[M] = (m, e, [(r["seed"], r["eta"], r["eta_err"], r["kT"], r["rate"], r["time"], r["dt"],
+                           round(r.get("cpu_s", 0))) for r in sel], split)
+    groups = {}
+    for r in rows:
+        if r.get("phi_nominal") != phi_nominal or r.get("solvent_count") != "bulk" or r.get("colloid_dpd"):
+            continue
+        if not (r.get("lubrication") and r.get("h_cut") == 0.15 and r.get("lubrication_form") == "shifted"):
+            continue  # the stick defaults of 7i/7k only
+        groups.setdefault((r.get("mass_scale", 1.0), r["rate"], tuple(r["box"])), []).append(r)
+    out = []
+    for (M, rate, box), sel in sorted(groups.items()):
+        if M not in eta0:
+            continue
+        e0, e0_err = eta0[M][:2]
+        er = [r["eta"] / e0 for r in sel]
+        ee = [r["eta_err"] / e0 for r in sel]
+        m, err, chi2 = weighted(er, ee)
+        tot = math.hypot(err, m * e0_err / e0)
+        phi = sel[0]["phi"]
+        Re, Pe = dimensionless(rate, e0, M)
+        k = -0.63 * math.log(1 - phi / 0.63)
+        d = dict(mass_scale=M, rate=rate, box=box, phi=phi, eta0=(e0, e0_err), eta0_seeds=eta0[M][2],
+                 eta0_split=eta0[M][3], Re=Re, Pe=Pe, k=k,
+                 per_seed=[(r["seed"], x, e, r["kT"], round(r.get("cpu_s", 0))) for r, x, e in zip(sel, er, ee)],
+                 eta_r=m, eta_r_err_seeds=err, eta_r_err=tot, chi2=chi2, n=len(sel),
+                 theory=kd(phi), deviation=m / kd(phi) - 1, deviation_err=tot / kd(phi),
+                 kT=(min(r["kT"] for r in sel), max(r["kT"] for r in sel)))
+        if all("split" in r for r in sel):
+            d["split"] = {kk: weighted([r["split"][kk][0] / e0 for r in sel], [r["split"][kk][1] / e0 for r in sel])[:2]
+                          for kk in sel[0]["split"] if kk != "total"}
+        out.append(d)
+    fit = None
+    if len(out) >= 2:
+        x = np.array([d["Re"] ** 1.5 * d["k"] for d in out])
+        y = np.array([math.log(d["eta_r"]) for d in out])
+        w = np.array([(d["eta_r"] / d["eta_r_err"]) ** 2 for d in out])
+        X = np.vstack([np.ones_like(x), x]).T
+        cov = np.linalg.inv(X.T @ (w[:, None] * X))
+        A, c = cov @ (X.T @ (w * y))
+        chi2 = float((w * (y - A - c * x) ** 2).sum())
+        fit = dict(c=float(c), c_err=float(math.sqrt(cov[1, 1])), A=float(A), eta_r_stokes=math.exp(A),
+                   eta_r_stokes_err=math.exp(A) * math.sqrt(cov[0, 0]), chi2=chi2, dof=len(out) - 2)
+    return out, fit
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -267,11 +351,19 @@ def main():
     r.add_argument("--lubrication-form", choices=["plain", "shifted"], default="plain",
                    help="the kernel's form with --lubrication-h-cut (section 7j's check: plain; "
                         "setup_suspension's stick default since 7i: shifted)")
+    r.add_argument("--mass-scale", type=float, default=1.0,
+                   help="every particle's mass and rotational inertia x this (section 7l; default 1: unchanged)")
+    r.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"), default=None,
+                   help="the solvent viscosity at this mass: only recorded, with Re and Pe, in the JSON row")
     r.add_argument("--json")
     sub.add_parser("check-split")
     t = sub.add_parser("table")
     t.add_argument("files", nargs="+")
     t.add_argument("--eta0", type=float, nargs=2, default=[0.3290, 0.0030])
+    ms = sub.add_parser("mass", help="section 7l: eta_r at phi 0.3 against the particle mass (Re at fixed Pe)")
+    ms.add_argument("files", nargs="+", help="phi = 0.3 rows (stick defaults), any mass")
+    ms.add_argument("--eta0-files", nargs="+", required=True, help="phi = 0 rows at the masses != 1")
+    ms.add_argument("--eta0", type=float, nargs=2, default=[0.3290, 0.0030], help="eta_0 at mass 1")
     sp = sub.add_parser("split", help="the type-pair split per scene, in units of eta_0")
     sp.add_argument("files", nargs="+")
     sp.add_argument("--eta0", type=float, default=0.3290)
@@ -284,6 +376,28 @@ def main():
                   + " | ".join(f"{d[k][0]:.3f}({1000 * d[k][1]:.0f})" if d[k][1] > 0 else "-" for k in keys)
                   + f" | {d['solvent_part']:.3f}")
         return
+    if a.cmd == "mass":
+        out, fit = mass_table(a.files, a.eta0_files, tuple(a.eta0))
+        for d in out:
+            if d["eta0_seeds"]:
+                print(f"M = {d['mass_scale']:g}: eta_0 per seed " + ", ".join(
+                    f"{e:.4f}({1e4 * ee:.0f}) (seed {sd}, kT {kt:.4f}, rate {rt}, {t:g} tu, dt {dt}, {c} CPU-s)"
+                    for sd, e, ee, kt, rt, t, dt, c in d["eta0_seeds"]))
+                if d["eta0_split"]:
+                    print("    eta_0 split: " + ", ".join(f"{k} {m:.4f}({1e4 * e:.0f})" for k, (m, e) in d["eta0_split"].items()))
+            print(f"M = {d['mass_scale']:g}, rate {d['rate']}, phi {d['phi']:.4f}: eta_0 = {d['eta0'][0]:.4f} +/- {d['eta0'][1]:.4f}, "
+                  f"Re = {d['Re']:.3f}, Pe = {d['Pe']:.2f}; eta_r per seed "
+                  + ", ".join(f"{x:.3f}({1000 * e:.0f}) ({sd}, kT {kt:.4f}, {c} CPU-s)" for sd, x, e, kt, c in d["per_seed"])
+                  + f"; eta_r = {d['eta_r']:.3f} +/- {d['eta_r_err']:.3f} (seeds {d['eta_r_err_seeds']:.3f}, chi^2 "
+                  f"{d['chi2']:.1f}/{d['n'] - 1}); KD {d['theory']:.3f}: {100 * d['deviation']:+.1f} +/- "
+                  f"{100 * d['deviation_err']:.1f} %")
+            if "split" in d:
+                print("    split (eta_0(M) units): " + ", ".join(f"{k} {m:.3f}({1000 * e:.0f})" for k, (m, e) in d["split"].items()))
+        if fit:
+            print(f"fit ln eta_r = A + k c Re^1.5 (k = {out[0]['k']:.4f}): c = {fit['c']:.2f} +/- {fit['c_err']:.2f} "
+                  f"(Lin et al.: 1.34), eta_r(Re -> 0) = {fit['eta_r_stokes']:.3f} +/- {fit['eta_r_stokes_err']:.3f}, "
+                  f"chi^2 {fit['chi2']:.2f}/{fit['dof']}")
+        return
     if a.cmd == "run":
         run(a)
     elif a.cmd == "check-split":
@@ -292,6 +406,8 @@ def main():
         for d in table(a.files, a.eta0[0], a.eta0[1]):
             per = ", ".join(f"{x:.3f}({1000 * e:.0f}) ({sd})" for x, e, sd in d["per_seed"])
             lubs = f" lubrication h_cut {d['lubrication_h_cut']}" if d["lubrication_h_cut"] else ""
+            if d["mass_scale"] != 1.0:
+                lubs += f" mass x {d['mass_scale']:g}"
             line = (f"phi {d['phi']:.4f} rate {d['rate']} box {'x'.join(f'{b:g}' for b in d['box'])}{lubs}: "
                     f"eta {d['eta']:.4f} +/- {d['eta_err']:.4f} (chi^2 {d['chi2']:.1f}/{len(d['seeds']) - 1})")
             if "eta_r" in d:

@@ -25,6 +25,15 @@ the stability check refuses a too large one).
         [--phi 0.1] [--time 200] [--vv] [--dt DT] [--boundary stick]
         [--no-lubrication] [--no-colloid-dpd | --colloid-dpd] [--h-cut H]
         [--lubrication-form plain|shifted] [--solvent-count exact|bulk]
+        [--mass-scale M]
+
+--mass-scale M multiplies the mass of every particle (solvent beads 1 -> M,
+colloids their setup_suspension mass x M, the colloids' rotational inertia x M;
+velocities and spins rescaled by 1/sqrt(M) so they stay at kT) at fixed radius,
+kT, gamma and rate: the particle Reynolds number Re = 3 M rate R^2/eta_0(M)
+changes (eta_0's kinetic part grows with M, so measure eta_0 at every M;
+doc/suspensions.md 7l). M = 1 (default) leaves the scene bit for bit unchanged.
+Lighter particles need a smaller dt with --vv (friction rates gamma/M).
 
 Options left out take setup_suspension's default for the boundary (for "slip"
 the solvent count is "exact", as in this sample before).
@@ -48,11 +57,13 @@ SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
 def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count=None,
-          lubrication=True, colloid_dpd=None, h_cut=None, lubrication_form=None):
+          lubrication=True, colloid_dpd=None, h_cut=None, lubrication_form=None, mass_scale=1.0):
     """The scene at volume fraction ``phi`` (0: the solvent alone), ``equil`` time
     units at rest. None for ``solvent_count``, ``colloid_dpd``, ``h_cut`` and
     ``lubrication_form``: setup_suspension's default for ``boundary``, except
-    that the solvent count of "slip" is "exact" (this sample's). Returns (system, info)."""
+    that the solvent count of "slip" is "exact" (this sample's). ``mass_scale``
+    multiplies every mass and rotational inertia (see scale_masses). Returns (system, info)."""
+    mass_scale = check_mass_scale(mass_scale)
     if solvent_count is None and boundary == "slip":
         solvent_count = "exact"
     box = np.asarray(box, dtype=float)
@@ -73,6 +84,9 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=GAMMA, k=1.0, r_cut=1.0)
         s.thermostat.set_dpd(kT=KT, seed=seed)
         info = {"n_colloids": 0}
+    if mass_scale != 1.0:
+        scale_masses(s, mass_scale, info)
+    info["mass_scale"] = mass_scale
     if shardlow:
         s.integrator.set_shardlow()
     else:
@@ -80,6 +94,55 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
     zero_momentum(s)
     s.integrator.run(int(round(equil / dt)))
     return s, info
+
+
+def check_mass_scale(mass_scale):
+    """``mass_scale`` as a float; ValueError unless finite and > 0."""
+    try:
+        m = float(mass_scale)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter 'mass_scale' must be a number > 0, got {mass_scale!r}") from None
+    if not (np.isfinite(m) and m > 0):
+        raise ValueError(f"parameter 'mass_scale' must be finite and > 0, got {mass_scale!r}")
+    if m != 1.0 and not marble.has_features("MASS"):
+        raise marble.FeaturesError("missing feature MASS (needed for mass_scale != 1)")
+    return m
+
+
+def scale_masses(s, mass_scale, info=None):
+    """Multiply the mass of every particle by ``mass_scale`` (beads 1 -> M,
+    colloids M_c -> M M_c) and the rotational inertia of the rotating ones too;
+    velocities and spins are divided by sqrt(M) so that the kinetic energy (kT)
+    is unchanged. Radius, kT and every friction (gamma, trans_gamma, the
+    lubrication's eta) stay: DPD's friction and noise do not depend on the mass
+    in the default build (no DPD_MASS_RED/LIN), so only the inertia changes.
+    ``info`` (setup_suspension's dict) gets the new colloid mass and inertia."""
+    m = check_mass_scale(mass_scale)
+    parts = s.part.all()
+    if len(parts) == 0:
+        return
+    f = 1.0 / np.sqrt(m)
+    parts.mass = np.asarray(parts.mass, dtype=float) * m
+    parts.v = np.asarray(parts.v, dtype=float) * f
+    if marble.has_features("ROTATION"):
+        rot = np.asarray(parts.rotation, dtype=bool).any(axis=1)
+        if rot.any():
+            ids = np.asarray(parts.id)[rot]
+            r = s.part.by_ids(ids)
+            r.rinertia = np.asarray(r.rinertia, dtype=float) * m
+            r.omega_lab = np.asarray(r.omega_lab, dtype=float) * f
+    if info is not None:
+        for k in ("colloid_mass", "rinertia"):
+            if info.get(k) is not None:
+                info[k] = info[k] * m
+
+
+def dimensionless(rate, eta0, mass_scale=1.0, radius=R, density=3.0, kT=KT):
+    """(Re, Pe) of a colloid of ``radius`` in the solvent of viscosity ``eta0``:
+    Re = rho_mass rate R^2 / eta_0 with rho_mass = density x mass_scale (bead
+    mass 1 x M), Pe = 6 pi eta_0 R^3 rate / kT."""
+    return (density * mass_scale * rate * radius ** 2 / eta0,
+            6.0 * np.pi * eta0 * radius ** 3 * rate / kT)
 
 
 def zero_momentum(s):
@@ -164,6 +227,9 @@ def main():
                          "i.e. zero at h_cut, for stick)")
     ap.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"),
                     help="use this solvent viscosity and error instead of measuring it")
+    ap.add_argument("--mass-scale", type=float, default=1.0,
+                    help="multiply every particle's mass and rotational inertia by this (default 1: unchanged); "
+                         "Re = 3 M rate R^2/eta_0(M), doc/suspensions.md 7l")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
     args = ap.parse_args()
     if args.dt is None:
@@ -178,7 +244,7 @@ def main():
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
                         colloid_dpd=args.colloid_dpd, h_cut=args.h_cut, lubrication_form=args.lubrication_form,
-                        equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        mass_scale=args.mass_scale, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -186,8 +252,9 @@ def main():
               f"profile slope {slope:.4f} +/- {slope_err:.4f} (imposed {args.rate}), kT {kt:.4f}")
         if args.json:
             import json
+            extra = {} if args.mass_scale == 1.0 else dict(mass_scale=args.mass_scale)
             with open(args.json, "a") as f:
-                f.write(json.dumps(dict(phi=info.get("phi", 0.0), phi_nominal=phi, boundary=args.boundary if phi else "solvent",
+                f.write(json.dumps(dict(**extra, phi=info.get("phi", 0.0), phi_nominal=phi, boundary=args.boundary if phi else "solvent",
                                         n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
                                         time=args.time, dt=args.dt,
                                         integrator="vv" if args.vv else "shardlow", seed=args.seed, eta=eta, eta_err=err,
