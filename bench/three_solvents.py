@@ -639,7 +639,8 @@ def retime_package():
     for colloids, ~3x for the core colloid) the measured CPU per unit time and
     the probe speed stored with it go stale. Each (model, R, L) of the table
     is re-timed over RETIME_T time units (cost_case) next to a new probe; every
-    CPU entry of that model at that (R, L) is scaled by new/old cpu_per_tau,
+    CPU entry of that model at that (R, L) is scaled by new/old CPU per step
+    (the entry keeps its own dt),
     the viscosity run's by the factor of the model's drag scene (the same
     solvent). Writes the package table in place, with the factors."""
     import subprocess
@@ -656,7 +657,8 @@ def retime_package():
             rl = (e["R"], e["L"])
             if (model, rl) not in factors:
                 c = cost_case(model, e["R"], e["L"], RETIME_T[model])
-                factors[(model, rl)] = c["cpu_per_tau"] / e["cpu_per_tau"]
+                # per step: the scene's step may have changed (advisor.marble_dt at R > 2)
+                factors[(model, rl)] = (c["cpu_per_tau"] * c["dt"]) / (e["cpu_per_tau"] * e["dt"])
                 log(f"retime {model} R = {e['R']:g} L = {e['L']:g}: {e['cpu_per_tau']:.4g} -> "
                     f"{c['cpu_per_tau']:.4g} CPU-s per unit time (probe {old_speed:.3g} -> "
                     f"{speed:.3g})")
