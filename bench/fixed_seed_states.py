@@ -148,16 +148,25 @@ def main():
     args = ap.parse_args()
     global STEPS
     STEPS = args.steps
+    return run_and_compare(scenes(), args.out, args.compare, args.tol)
+
+
+def run_and_compare(scene_list, out_path, compare=None, tol=0.0):
+    """Run the (name, fn) scenes (a scene whose features are missing is skipped
+    and said so), save their arrays to @p out_path and, with @p compare (a
+    reference .npz of another build), print max |difference| per array.
+    Returns the exit code: 0 if every array agrees bit for bit, or with
+    @p tol > 0 if every max |difference| / max |value| is <= tol; else 1."""
     out = {}
-    for name, fn in scenes():
+    for name, fn in scene_list:
         try:
             fn(out)
         except marble.FeaturesError as err:
             print(f"{name}: skipped ({err})")
-    np.savez(args.out, **out)
-    if not args.compare:
+    np.savez(out_path, **out)
+    if not compare:
         return 0
-    ref = np.load(args.compare)
+    ref = np.load(compare)
     worst = worst_rel = 0.0
     for k in sorted(set(ref.files) | set(out)):
         if k not in ref.files or k not in out:
@@ -170,10 +179,9 @@ def main():
         worst, worst_rel = max(worst, d), max(worst_rel, rel)
         print(f"{k}: max |difference| = {d:.3g} (relative to max |value|: {rel:.3g})")
     print(f"max |difference| over all = {worst:.3g}, relative {worst_rel:.3g}")
-    if args.tol > 0:
-        return 0 if worst_rel <= args.tol else 1
+    if tol > 0:
+        return 0 if worst_rel <= tol else 1
     return 0 if worst == 0.0 else 1
-
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -18,6 +18,7 @@ import sys
 import numpy as np
 
 import marble
+from fixed_seed_states import run_and_compare  # bench/ is the script's directory
 
 
 def box(L, n, seed, dt=0.04, skin=0.4, mass=None):
@@ -44,12 +45,16 @@ def state(s, out, name):
 
 
 def scenes():
-    def paper(out):
-        s = box(8.0, 1536, 21)
+    def paper_solvent(out, name, L, n, seed):
+        """The marble paper's solvent (a = 0, gamma = 5) under Shardlow, 40 steps."""
+        s = box(L, n, seed)
         s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
         s.integrator.set_shardlow()
         s.integrator.run(40)
-        state(s, out, "paper")
+        state(s, out, name)
+
+    def paper(out):
+        paper_solvent(out, "paper", 8.0, 1536, 21)
 
     def marble_scene(out):
         from marble.colloids import add_marble
@@ -77,11 +82,7 @@ def scenes():
         state(s, out, "trans_masses")
 
     def small_box(out):
-        s = box(2.5, 47, 24)
-        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
-        s.integrator.set_shardlow()
-        s.integrator.run(40)
-        state(s, out, "small")
+        paper_solvent(out, "small", 2.5, 47, 24)
 
     def colloids(out):
         """Surface friction (colloid-colloid pairs in the main list), lubrication and contact."""
@@ -123,28 +124,7 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--compare", help="reference .npz of another build")
     args = ap.parse_args()
-    out = {}
-    for name, fn in scenes():
-        try:
-            fn(out)
-        except marble.FeaturesError as err:
-            print(f"{name}: skipped ({err})")
-    np.savez(args.out, **out)
-    if not args.compare:
-        return 0
-    ref = np.load(args.compare)
-    worst = 0.0
-    for k in sorted(set(ref.files) | set(out)):
-        if k not in ref.files or k not in out:
-            print(f"{k}: only in one of the two")
-            worst = np.inf
-            continue
-        d = float(np.max(np.abs(ref[k] - out[k]))) if ref[k].shape == out[k].shape else np.inf
-        worst = max(worst, d)
-        print(f"{k}: max |difference| = {d:.3g}")
-    print(f"max |difference| over all = {worst:.3g}")
-    return 0 if worst == 0.0 else 1
-
+    return run_and_compare(scenes(), args.out, args.compare)
 
 if __name__ == "__main__":
     sys.exit(main())
