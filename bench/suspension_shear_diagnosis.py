@@ -55,6 +55,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "samples"))
 sys.path.insert(0, HERE)
 
 import marble  # noqa: E402
+from marble.theory import krieger_dougherty_viscosity as kd  # noqa: E402
 from marble.viscosity import block_average  # noqa: E402
 from lees_edwards_suspension import scene, measure, dimensionless  # noqa: E402
 
@@ -205,8 +206,6 @@ def weighted(x, e):
     return m, err, chi2
 
 
-def kd(phi, phi_m=0.63):
-    return (1 - phi / phi_m) ** (-2.5 * phi_m)
 
 
 def table(files, eta0=0.3290, eta0_err=0.0030):
@@ -309,7 +308,7 @@ def mass_table(files, eta0_files, eta0_ref=(0.3290, 0.0030), phi_nominal=0.3):
         tot = math.hypot(err, m * e0_err / e0)
         phi = sel[0]["phi"]
         Re, Pe = dimensionless(rate, e0, M)
-        k = -0.63 * math.log(1 - phi / 0.63)
+        k = math.log(kd(phi)) / 2.5  # d ln eta_r / d [eta] in KD: -phi_m ln(1 - phi/phi_m)
         d = dict(mass_scale=M, rate=rate, box=box, phi=phi, eta0=(e0, e0_err), eta0_seeds=eta0[M][2],
                  eta0_split=eta0[M][3], Re=Re, Pe=Pe, k=k,
                  per_seed=[(r["seed"], x, e, r["kT"], round(r.get("cpu_s", 0))) for r, x, e in zip(sel, er, ee)],

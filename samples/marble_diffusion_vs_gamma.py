@@ -62,6 +62,16 @@ def summarise(runs, gammas):
     return out
 
 
+def with_totals(data, gammas, seeds):
+    """@p data with the summary over its runs, their summed CPU and wall time
+    (over all pieces) and whether every (gamma, seed) run is there."""
+    runs = data["runs"]
+    data.update(summary=summarise(runs, gammas), cpu_time_s=sum(r.get("cpu_s", 0.0) for r in runs),
+                wall_time_s=sum(r.get("wall_s", 0.0) for r in runs),
+                complete=len(runs) == len(gammas) * len(seeds))
+    return data
+
+
 def resume_runs(jpath, data):
     """The runs of an earlier piece in jpath, after checking that its settings
     are data's (ValueError naming the first that differs)."""
@@ -152,15 +162,8 @@ def main():
                f"D_vacf={run['D_vacf']:.5f} D_msd={run['D_msd']:.5f} ") +
               f"D_drag={res.D:.5f}+-{res.D_err:.5f}   [{k + 1}/{len(todo)}, {run['cpu_s']:.0f} CPU-s, "
               f"elapsed {el:.0f} s, ETA {el / (k + 1) * (len(todo) - k - 1):.0f} s]", flush=True)
-        data["summary"] = summarise(data["runs"], gammas)
-        data["cpu_time_s"] = sum(r.get("cpu_s", 0.0) for r in data["runs"])
-        data["wall_time_s"] = sum(r.get("wall_s", 0.0) for r in data["runs"])
-        write_json(jpath, data)
-    data["summary"] = summarise(data["runs"], gammas)
-    data["cpu_time_s"] = sum(r.get("cpu_s", 0.0) for r in data["runs"])
-    data["wall_time_s"] = sum(r.get("wall_s", 0.0) for r in data["runs"])
-    data["complete"] = len(data["runs"]) == len(gammas) * len(seeds)
-    write_json(jpath, data)
+        write_json(jpath, with_totals(data, gammas, seeds))
+    write_json(jpath, with_totals(data, gammas, seeds))
     if not stopped:
         print("all runs done", flush=True)
     if not data["summary"]:

@@ -97,14 +97,6 @@ bool simd_scene_params(InteractionTable const &ia, unsigned mask, SimdPairParams
 
 namespace {
 
-/** True if @p c is a power of two whose reciprocal is a normal number too:
- * then x / c and x * (1 / c) are the same real number, so the same double
- * (each is that number rounded once), whatever x. */
-bool exact_reciprocal(double c) {
-  int e = 0;
-  return c > 0. && std::frexp(c, &e) == 0.5 && e > -1000 && e < 1000;
-}
-
 /** The loop body for one set of switches (hoisted out of the loop so that
  * it has no branch left and vectorises). Pow2: the cutoffs the kernels
  * divide by (hat cutoff, DPD weight ranges) are powers of two (e.g. r_c = 1,

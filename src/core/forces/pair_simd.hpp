@@ -8,6 +8,7 @@
 #include "forces/pair_traversal.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +20,16 @@ template <class K> constexpr unsigned pair_loop_bit_if_compiled() {
     return pair_loop_bit<K>;
   else
     return 0u;
+}
+
+/** True if @p c is a power of two whose reciprocal is a normal number too:
+ * then x / c and x * (1 / c) are the same real number, so the same double
+ * (each is that number rounded once), whatever x. Used where a division is
+ * replaced by a multiplication without changing any bit (the SIMD block's
+ * cutoffs, the Shardlow sweep's cutoffs and reduced masses). */
+inline bool exact_reciprocal(double c) {
+  int e = 0;
+  return c > 0. && std::frexp(c, &e) == 0.5 && e > -1000 && e < 1000;
 }
 
 /** One type pair's kernels in the form the SIMD block takes (off: 0 gain). */

@@ -117,14 +117,6 @@ struct SweepBlock {
   std::array<Vector3d, kPairBlock> nt; // and s (xi - (e . xi) e)
 #endif
 };
-/** True if @p c is a power of two whose reciprocal is a normal number: then
- * x / c and x * (1 / c) are the same real number rounded once, so the same
- * double, whatever x (forces/pair_simd.cpp has the same test). */
-bool exact_reciprocal(double c) {
-  int e = 0;
-  return c > 0. && std::frexp(c, &e) == 0.5 && e > -1000 && e < 1000;
-}
-
 /** DPDWeight::weight with the division by r_cut a multiplication where that
  * is exact (@p inv_rc = 1 / r_cut, @p pow2 = exact_reciprocal(r_cut)): the same bits. */
 inline double dpd_weight(DPDWeight const &wp, double r, double inv_rc, bool pow2) {
@@ -374,7 +366,7 @@ void shardlow_sweep(System &sys) {
 #endif
           false) {
         IAParams const &pair = ia.get(ps.type[i], ps.type[j]);
-        Vector3d const d = ps.pos[i] - ps.pos[j];
+        Vector3d const d{D.dx[s], D.dy[s], D.dz[s]}; // ps.pos[i] - ps.pos[j] (the select's bits)
         [[maybe_unused]] double const r2 = d.norm2();
 #ifdef TRANS_DPD
         // the stick friction's exact update of the pair's tangential contact
