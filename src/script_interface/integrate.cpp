@@ -11,8 +11,20 @@ namespace ScriptInterface {
 using Marble::IntegratorKind;
 using Marble::System;
 
+namespace {
+/** RESPA substeps (System::substeps): an integer in [1, max_substeps]. */
+int check_substeps(py::object const &v) {
+  long long const n = to_int("substeps", v);
+  if (n < 1 || n > System::max_substeps)
+    value_error("parameter 'substeps' must be an integer in [1, " + std::to_string(System::max_substeps) +
+                "], got " + std::to_string(n));
+  return static_cast<int>(n);
+}
+} // namespace
+
 void bind_integrate(py::class_<System> &cls) {
-  cls.def("set_vv", &System::set_integrator_vv);
+  cls.def("set_vv", [](System &s, py::object substeps) { s.set_integrator_vv(check_substeps(substeps)); },
+          "substeps"_a = 1);
   cls.def("set_steepest_descent", [](System &s, py::object f_max, py::object gamma, py::object max_disp) {
     Marble::SteepestDescentParams p;
     p.f_max = check_double("f_max", to_double("f_max", f_max), 0., INFINITY);
@@ -25,6 +37,10 @@ void bind_integrate(py::class_<System> &cls) {
     py::dict d;
     if (s.integrator() == Marble::IntegratorKind::VelocityVerlet) {
       d["name"] = "VelocityVerlet";
+      d["substeps"] = s.substeps();
+    } else if (s.integrator() == Marble::IntegratorKind::Shardlow) {
+      d["name"] = "Shardlow";
+      d["substeps"] = s.substeps();
     } else {
       d["name"] = "SteepestDescent";
       d["f_max"] = s.sd_params().f_max;
@@ -48,14 +64,15 @@ void bind_integrate(py::class_<System> &cls) {
     }
     return s.run(static_cast<int>(n), recalc_forces);
   }, "steps"_a, "recalc_forces"_a = false);
-  cls.def("set_shardlow", [](System &s) {
+  cls.def("set_shardlow", [](System &s, py::object substeps) {
 #ifdef DPD
-    s.set_integrator_shardlow();
+    s.set_integrator_shardlow(check_substeps(substeps));
 #else
     (void)s;
+    (void)substeps;
     throw Utils::FeaturesError("DPD", "integrator.set_shardlow");
 #endif
-  });
+  }, "substeps"_a = 1);
   cls.def("set_dpd_vv", [](System &s) {
 #ifdef DPD
     s.set_integrator_dpd_vv();

@@ -243,6 +243,28 @@ void System::compute_forces(bool with_thermostat) {
   m_forces_valid = true;
 }
 
+void System::compute_fast_forces() {
+  int const n = m_ps.n_local();
+  m_f_fast.assign(static_cast<std::size_t>(m_ps.size()), Vector3d{});
+#ifdef MARBLE
+  if (m_colloids.any())
+    m_colloids.add_conservative_forces(m_ps, m_ia, m_f_fast);
+#endif
+  m_f_fast.resize(static_cast<std::size_t>(n)); // one rank: the colloid pairs hold locals only
+  double const big = std::numeric_limits<double>::max();
+  for (int i = 0; i < n; ++i) {
+    auto const &v = m_f_fast[i];
+    if (!(std::abs(v[0]) <= big && std::abs(v[1]) <= big && std::abs(v[2]) <= big)) {
+      m_forces_valid = false;
+      throw Utils::RuntimeError(
+          "non-finite fast (colloid pair) force on particle " + std::to_string(m_ps.id[i]) + " at step " +
+          std::to_string(m_step) +
+          ": likely cause: overlapping particles or a time step too large for the interactions; "
+          "reduce time_step or raise the integrator's substeps");
+    }
+  }
+}
+
 void System::check_forces_finite() const {
   std::string msg;
   // a branchless pass first (it vectorises): all finite, the common case;

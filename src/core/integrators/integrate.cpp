@@ -126,36 +126,8 @@ void System::drift_checked(bool kick_first) {
   // one reduction for both: 2 = some rank refuses the step, 1 = some local
   // (on any rank) will have moved more than skin/2 (the list must be rebuilt)
   int const vote = m_comm.max(bad >= 0 ? 2 : (moved ? 1 : 0));
-  if (vote == 2) {
-    m_forces_valid = false;
-    m_cells.invalidate();
-    // the friction limits (integrators/stability.cpp) name a likelier cause
-    std::string where;
-    double const frac = limit_fraction(*this, where); // collective
-    std::string msg;
-    if (bad >= 0) {
-      double const disp2 = bad_disp2;
-      std::string const friction =
-          frac > 0.3 ? " (explicit friction at " + Utils::to_str(frac) +
-                           " x its stability limit: " + where + ")"
-                     : std::string();
-      double const dt_sugg = std::isfinite(disp2) ? 0.5 * dt * m_cells.skin() / std::sqrt(disp2)
-                                                  : (frac > 0.3 ? 0.5 * dt / frac : 0.1 * dt);
-      std::string const what =
-          std::isfinite(disp2)
-              ? "moved " + Utils::to_str(std::sqrt(disp2)) + " in one step, more than the skin (" +
-                    Utils::to_str(m_cells.skin()) +
-                    "): likely cause: time step too large for the forces/velocities" + friction +
-                    " or overlapping particles; reduce time_step (suggested <= " +
-                    Utils::to_str(dt_sugg) + ") or increase cell_system.skin"
-              : "got a non-finite velocity or position: likely cause: time step too large" +
-                    friction + " or a non-finite force/velocity set by the user; reduce time_step "
-                    "(suggested <= " + Utils::to_str(dt_sugg) + ")";
-      msg = "integration stopped at step " + std::to_string(m_step + 1) + ": particle " +
-            std::to_string(m_ps.id[bad]) + " " + what;
-    }
-    m_comm.throw_if_any(msg);
-  }
+  if (vote == 2)
+    refuse_step(bad, bad_disp2, dt, 1);
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
@@ -167,6 +139,47 @@ void System::drift_checked(bool kick_first) {
 #endif
   }
   m_displacement_hint = vote; // already agreed by all ranks
+}
+
+// The refusal of a step (collective: every rank got vote 2): the message
+// names the first bad local of the refusing rank and a time step to try.
+// @p step_len is the length of the refused (sub)step, @p n_sub the RESPA
+// substeps per time step (1: a plain step).
+void System::refuse_step(int bad, double bad_disp2, double step_len, int n_sub) {
+  double const dt = step_len * n_sub;
+  m_forces_valid = false;
+  m_cells.invalidate();
+  // the friction limits (integrators/stability.cpp) name a likelier cause
+  std::string where;
+  double const frac = limit_fraction(*this, where); // collective
+  std::string msg;
+  if (bad >= 0) {
+    double const disp2 = bad_disp2;
+    std::string const friction =
+        frac > 0.3 ? " (explicit friction at " + Utils::to_str(frac) +
+                         " x its stability limit: " + where + ")"
+                   : std::string();
+    double const dt_sugg = std::isfinite(disp2) ? 0.5 * dt * m_cells.skin() / std::sqrt(disp2)
+                                                : (frac > 0.3 ? 0.5 * dt / frac : 0.1 * dt);
+    std::string const in_one = n_sub > 1 ? " in one of the " + std::to_string(n_sub) + " substeps"
+                                         : std::string(" in one step");
+    std::string const or_sub = n_sub > 1 ? " or raise the integrator's substeps" : std::string();
+    std::string const what =
+        std::isfinite(disp2)
+            ? "moved " + Utils::to_str(std::sqrt(disp2)) + in_one + ", more than the skin (" +
+                  Utils::to_str(m_cells.skin()) +
+                  "): likely cause: time step too large for the forces/velocities" + friction +
+                  " or overlapping particles; reduce time_step (suggested <= " +
+                  Utils::to_str(dt_sugg) + ")" + or_sub + " or increase cell_system.skin"
+            : "got a non-finite velocity or position: likely cause: time step too large" +
+                  friction + " or a non-finite force/velocity set by the user; reduce time_step "
+                  "(suggested <= " + Utils::to_str(dt_sugg) + ")" + or_sub;
+    msg = "integration stopped at step " + std::to_string(m_step + 1) + ": particle " +
+          std::to_string(m_ps.id[bad]) + " " + what;
+  }
+  m_comm.throw_if_any(msg);
+  throw Utils::RuntimeError("integration stopped at step " + std::to_string(m_step + 1) +
+                            " (refused on another rank)");
 }
 
 void System::check_thermostats_before_run() const {
@@ -231,6 +244,8 @@ int System::run(int n_steps, bool recalc_forces) {
   if (srd && n_steps > 0) // SRD: geometry checks, SRD particles inside colloids moved out
     srd->prepare(*this);
 #endif
+  if (m_substeps > 1)
+    return run_md_respa(n_steps);
   return run_md(n_steps);
 }
 
@@ -311,6 +326,172 @@ int System::run_md(int n_steps) {
     else
       kick(0.5 * m_time_step);
 #endif
+    for (auto const &acc : m_auto_update)
+      if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
+        acc->update(*this);
+  }
+  return n_steps;
+}
+
+// ---------------------------------------------------------------------------
+// RESPA (Tuckerman, Berne & Martyna, J. Chem. Phys. 97, 1990 (1992)) for the
+// stiff colloid pairs: the conservative pair kernels of the colloid pair list
+// (marble/Colloids: e.g. a marble's LJ wall) are the fast forces F_f,
+// integrated with n = substeps inner steps of h = dt/n; everything else
+// (solvent pairs, walls, external and Langevin forces, the colloid pairs'
+// DPD and marble-coupling friction and noise, with their counters of the
+// outer step) is the slow part F_s at dt. One step:
+//   v += dt/2 F_s/m;  n times { v += h/2 F_f/m; x += h v; F_f(x); v += h/2 F_f/m };
+//   F_s(x);  v += dt/2 F_s/m;  [Shardlow: the pair sweep]
+// with the inner half kicks of consecutive substeps merged. Between steps
+// particle.f holds F_s + F_f (as with substeps = 1); the step takes
+// F_s = f - F_f again. One MPI rank (check_scene_before_run).
+
+void System::kick_fast(double kick_dt) {
+  int const n = m_ps.n_local();
+  auto *const v = m_ps.v.data();
+  auto const *const f = m_f_fast.data();
+  for (int i = 0; i < n; ++i) {
+    double const a = kick_dt / m_ps.get_mass(i);
+    if (!m_ps.has_fixed(i)) {
+      for (int d = 0; d < 3; ++d)
+        v[i][d] += a * f[i][d];
+    } else {
+      for (int d = 0; d < 3; ++d)
+        v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
+    }
+  }
+}
+
+void System::drift_checked_substep(double kick_dt, double h) {
+  double const max2 = m_cells.skin() * m_cells.skin();
+  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
+  int const n = m_ps.n_local();
+  auto *const v = m_ps.v.data();
+  auto *const x = m_ps.pos.data();
+  auto const *const f = m_f_fast.data();
+  auto const *const x0 = m_ps.pos_at_rebuild.data();
+  m_half_dt_over_m.resize(static_cast<std::size_t>(n));
+  double *const am = m_half_dt_over_m.data();
+  for (int i = 0; i < n; ++i)
+    am[i] = kick_dt / m_ps.get_mass(i);
+  auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
+    double const a = am[i];
+    if (!m_ps.has_fixed(i)) {
+      for (int d = 0; d < 3; ++d) {
+        dv[d] = a * f[i][d];
+        dx[d] = h * (v[i][d] + dv[d]);
+      }
+      return;
+    }
+    for (int d = 0; d < 3; ++d) {
+      bool const fx = m_ps.is_fixed(i, d);
+      dv[d] = fx ? -v[i][d] : a * f[i][d];
+      dx[d] = fx ? 0. : h * (v[i][d] + dv[d]);
+    }
+  };
+  int bad = -1;
+  double bad_disp2 = 0.;
+  bool moved = false;
+  for (int i = 0; i < n; ++i) {
+    Vector3d dv, dx;
+    step_of(i, dv, dx);
+    double const disp2 = dx.norm2();
+    if (!(disp2 <= max2)) { // also catches NaN
+      bad = i;
+      bad_disp2 = disp2;
+      break;
+    }
+    moved |= (x[i] + dx - x0[i]).norm2() > lim2;
+  }
+  int const vote = m_comm.max(bad >= 0 ? 2 : (moved ? 1 : 0));
+  if (vote == 2)
+    refuse_step(bad, bad_disp2, h, m_substeps);
+  for (int i = 0; i < n; ++i) {
+    Vector3d dv, dx;
+    step_of(i, dv, dx);
+    v[i] += dv;
+    x[i] += dx;
+  }
+  m_displacement_hint = vote;
+}
+
+int System::run_md_respa(int n_steps) {
+  if (m_time_step <= 0.)
+    throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
+  update_thermostat_prefactors();
+  // compute_forces without the fast forces (restored on every exit)
+  struct ExcludeFast {
+    bool &flag;
+    explicit ExcludeFast(bool &f) : flag(f) { flag = true; }
+    ~ExcludeFast() { flag = false; }
+  };
+  if (!m_forces_valid || n_steps == 0) {
+    compute_forces(true); // all forces: F_s + F_f
+    check_forces_finite();
+  }
+  if (n_steps == 0)
+    return 0;
+  int const n_sub = m_substeps;
+  double const dt = m_time_step;
+  double const h = dt / n_sub;
+  int n = m_ps.n_local();
+#ifdef MARBLE
+  bool const have_fast = m_colloids.any();
+#else
+  bool const have_fast = false;
+#endif
+  ensure_lists(); // (a rebuild keeps f with its particle)
+  compute_fast_forces();
+  for (int s = 0; s < n_steps; ++s) {
+    try {
+      // the outer half kick with F_s = f - F_f (and the slow torques)
+      n = m_ps.n_local();
+      for (int i = 0; i < n; ++i)
+        m_ps.f[i] -= m_f_fast[i];
+      kick(0.5 * dt);
+      for (int k = 0; k < n_sub; ++k) {
+        // the inner half kicks of substeps k - 1 and k in one
+        drift_checked_substep(k == 0 ? 0.5 * h : h, h);
+        // (without fast forces nothing is evaluated between the substeps: the
+        // list is checked at the end, as with substeps = 1)
+        if (k + 1 < n_sub && have_fast) {
+          if (m_displacement_hint == 1)
+            ensure_lists(); // rebuild (the pairs of the colloid list too)
+          compute_fast_forces();
+        }
+      }
+    } catch (...) {
+      m_displacement_hint = -1;
+      m_forces_valid = false;
+      throw;
+    }
+    ++m_step;
+    m_time += dt;
+#ifdef DPD
+    ++m_thermo.dpd.philox_counter;
+#endif
+    ++m_thermo.langevin.philox_counter;
+    {
+      ExcludeFast const guard(m_exclude_fast);
+      compute_forces(true); // F_s (ensure_lists may rebuild: before F_f)
+    }
+    try {
+      check_forces_finite();
+      compute_fast_forces();
+    } catch (...) {
+      m_forces_valid = false;
+      throw;
+    }
+    kick_fast(0.5 * h);
+    kick(0.5 * dt);
+#ifdef DPD
+    if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active)
+      shardlow_sweep(*this);
+#endif
+    n = m_ps.n_local();
+    for (int i = 0; i < n; ++i)
+      m_ps.f[i] += m_f_fast[i]; // particle.f: all forces, as with substeps = 1
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);

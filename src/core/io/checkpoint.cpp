@@ -246,6 +246,7 @@ struct CheckpointAccess {
     // -1 auto (also for blobs of format version 3, which lack it), 0 off, 1 the flagged types
     std::int32_t large_range_mode = -1;
     std::vector<char> large_range_types;
+    std::int32_t substeps = 1; // RESPA substeps (format version 5; 1 before)
     // Lees-Edwards (an optional tail of the global block, written only when
     // it is on: blobs without it are unchanged)
     LeesEdwardsProtocol le;
@@ -278,6 +279,7 @@ struct CheckpointAccess {
     o.pod(static_cast<std::int32_t>(s.m_constraints.m_next_id));
     o.pod(static_cast<std::int32_t>(s.m_large_range_mode)); // format version 4
     o.vec(s.m_large_range_types);
+    o.pod(static_cast<std::int32_t>(s.m_substeps)); // format version 5
     if (s.m_le_protocol.kind != LeesEdwardsProtocol::Off) { // Lees-Edwards tail
       auto const &p = s.m_le_protocol;
       o.pod(static_cast<std::int32_t>(p.kind));
@@ -318,6 +320,11 @@ struct CheckpointAccess {
       if (g.large_range_mode < -1 || g.large_range_mode > 1 ||
           g.large_range_types.size() > static_cast<std::size_t>(InteractionTable::max_type))
         corrupt("bad large-range types of the cell system");
+    }
+    if (version >= 5) {
+      g.substeps = in.pod<std::int32_t>();
+      if (g.substeps < 1 || g.substeps > System::max_substeps)
+        corrupt("bad integrator substeps");
     }
     if (!in.done()) { // the Lees-Edwards tail
       g.le.kind = in.pod<std::int32_t>();
@@ -552,6 +559,7 @@ struct CheckpointAccess {
     s.update_lees_edwards();
     s.m_integrator = static_cast<IntegratorKind>(g.integrator);
     s.m_sd = g.sd;
+    s.m_substeps = g.substeps;
     s.m_dpd_in_pair_loop = g.dpd_in_pair_loop != 0;
     s.m_thermo = g.thermo;
     s.m_ia.clear();

@@ -31,8 +31,9 @@ namespace Checkpoint {
 
 // 2: interactions by kernel field lists; 3: Langevin/Brownian thermostats,
 // per-particle gamma; 4: the requested large-range types of the cell system
-// (cell_system.large_range_types). Blobs of version 3 still load (as "auto").
-inline constexpr std::uint32_t format_version = 4;
+// (cell_system.large_range_types); 5: the integrator's RESPA substeps. Blobs of
+// version 3 still load (as "auto"; 3 and 4 with substeps = 1).
+inline constexpr std::uint32_t format_version = 5;
 inline constexpr std::uint32_t oldest_readable_version = 3;
 
 /** CRC-32 (IEEE 802.3, as zlib.crc32) of @p n bytes. */

@@ -116,11 +116,13 @@ void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable con
   }
 }
 
-void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const {
+void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
+                          bool with_conservative) const {
   for_each_pair_force(ps, ia, noise,
                       [&](int c, int j, Vector3d const &, Vector3d const &f_cons, Vector3d const &f_diss,
                           MarbleForce const &mf) {
-                        Vector3d f = f_cons;
+                        // without the conservative part: RESPA's slow forces
+                        Vector3d f = with_conservative ? f_cons : Vector3d{};
                         f += f_diss;
                         f += mf.on_bead;
                         ps.f[j] += f;
@@ -129,6 +131,29 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
                         ps.torque[c] += mf.torque_colloid;
 #endif
                       });
+}
+
+void Colloids::add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,
+                                       std::vector<Vector3d> &f) const {
+  constexpr unsigned cons_mask = pair_kernels_with_role<KernelRole::conservative>();
+  for (auto const &pr : m_pairs) {
+    int const c = pr.colloid, j = pr.other;
+    Vector3d const d = ps.pos[j] - (ps.pos[c] + pr.shift);
+    double const r2 = d.norm2();
+    IAParams const &p = ia.get(ps.type[c], ps.type[j]);
+    if (r2 >= p.max_cut * p.max_cut)
+      continue;
+    double const r = std::sqrt(r2);
+    if (!(r > 0.))
+      continue;
+    // the conservative kernels read neither velocities nor noise
+    auto vij = [&] { return ps.v[j] - ps.v[c]; };
+    auto xi = [&]<class K>() { return Vector3d{}; };
+    auto mfac = [&] { return pair_mass_factor(ps, j, c); };
+    Vector3d const fc = pair_force<cons_mask>(p, d, r, vij, xi, mfac);
+    f[j] += fc;
+    f[c] -= fc;
+  }
 }
 
 void Colloids::dissipative_virial(ParticleStore const &ps, InteractionTable const &ia,

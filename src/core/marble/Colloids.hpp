@@ -35,7 +35,12 @@ public:
   void rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
                InteractionTable const &ia);
   /** Add all colloid pair forces and torques to locals. */
-  void add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise) const;
+  void add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
+                  bool with_conservative = true) const;
+  /** RESPA's fast forces: only the conservative pair kernels of the colloid
+   * pairs, added to @p f (indexed like ps, at least ps.size() long). */
+  void add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,
+                               std::vector<Utils::Vector3d> &f) const;
   /** Energy per type pair (n_types^2, upper triangle) and virial tensor of
    * the conservative colloid pair forces; adds to @p energy / @p virial. */
   void conservative(ParticleStore const &ps, InteractionTable const &ia,

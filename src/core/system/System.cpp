@@ -122,7 +122,8 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 #endif
 #ifdef MARBLE
   if (m_colloids.any()) {
-    m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat));
+    // RESPA's slow forces leave the colloid pairs' conservative kernels out
+    m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat), !m_exclude_fast);
   }
 #endif
   if (!m_constraints.empty())
@@ -167,6 +168,23 @@ void System::check_scene_before_run() const {
     if (!why.empty())
       throw Utils::RuntimeError("cannot integrate with Lees-Edwards boundary conditions: " + why +
                                 " (doc/lees-edwards.md)");
+  }
+  if (m_substeps > 1) {
+    std::string why;
+    if (m_comm.parallel())
+      why = "they run on one MPI rank only (this run has " + std::to_string(m_comm.size()) + " ranks)";
+    else if (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::Shardlow)
+      why = "only velocity Verlet and Shardlow have them";
+    else if (m_le_protocol.kind != LeesEdwardsProtocol::Off)
+      why = "Lees-Edwards boundary conditions are not supported";
+#ifdef SRD
+    else if (srd)
+      why = "an SRD solvent is not supported";
+#endif
+    if (!why.empty())
+      throw Utils::RuntimeError("cannot integrate with substeps = " + std::to_string(m_substeps) +
+                                " (RESPA for the colloid pairs' conservative forces): " + why +
+                                "; use substeps=1 (doc/speed-accuracy.md)");
   }
   if (m_comm.parallel() && m_integrator == IntegratorKind::Shardlow)
     throw Utils::RuntimeError(

@@ -148,32 +148,43 @@ public:
 
   // --- integration ---
   IntegratorKind integrator() const { return m_integrator; }
-  void set_integrator_vv() {
+  void set_integrator_vv(int substeps = 1) {
     leave_bd();
     m_integrator = IntegratorKind::VelocityVerlet;
     set_pair_dpd_in_force_loop(true);
+    m_substeps = substeps;
   }
-  void set_integrator_shardlow() {
+  void set_integrator_shardlow(int substeps = 1) {
     leave_bd();
     m_integrator = IntegratorKind::Shardlow;
     set_pair_dpd_in_force_loop(false);
+    m_substeps = substeps;
   }
   void set_integrator_dpd_vv() {
     leave_bd();
     m_integrator = IntegratorKind::DPDVV;
     set_pair_dpd_in_force_loop(true);
+    m_substeps = 1;
   }
+  /** RESPA inner substeps of the fast forces (velocity Verlet and Shardlow;
+   * 1 = plain velocity Verlet, the default): the conservative pair kernels
+   * of the colloid pair list are integrated with step time_step / substeps
+   * (integrators/integrate.cpp, run_md_respa). */
+  int substeps() const { return m_substeps; }
+  static constexpr int max_substeps = 100;
   /** False with Shardlow: the main pair loop then leaves DPD out (the
    * integrator updates those pairs itself) and forces hold the rest. */
   bool pair_dpd_in_force_loop() const { return m_dpd_in_pair_loop; }
   void set_integrator_sd(SteepestDescentParams const &p) {
     m_integrator = IntegratorKind::SteepestDescent;
+    m_substeps = 1;
     m_sd = p;
   }
   SteepestDescentParams const &sd_params() const { return m_sd; }
   /** Brownian dynamics (needs the Brownian thermostat at run time). */
   void set_integrator_bd() {
     m_integrator = IntegratorKind::BrownianDynamics;
+    m_substeps = 1;
     m_forces_valid = false; // BD forces exclude the thermostat
     set_pair_dpd_in_force_loop(true);
   }
@@ -232,6 +243,12 @@ public:
 
   // --- force evaluation (used by the integrators and tests) ---
   void compute_forces(bool with_thermostat);
+  /** RESPA: the fast forces (the conservative pair kernels of the colloid
+   * pair list) at the current positions into m_f_fast (locals; one rank).
+   * Does not touch the lists: they must be valid (run_md_respa). */
+  void compute_fast_forces();
+  /** The last compute_fast_forces' result (locals, in their order then). */
+  std::vector<Utils::Vector3d> const &fast_forces() const { return m_f_fast; }
   bool forces_valid() const { return m_forces_valid; }
   double max_cutoff() const { return m_ia.max_cutoff(); }
   /** Large-range types of the pair list (cells/CellSystem.hpp): @p mode -1
@@ -248,6 +265,7 @@ public:
 private:
   void check_forces_finite() const;
   int run_md(int n_steps); // VV, Shardlow, DPD-VV
+  int run_md_respa(int n_steps); // VV, Shardlow with substeps > 1
   int run_sd(int n_steps);
   int run_bd(int n_steps); // integrators/brownian.cpp
   /** Throws Utils::RuntimeError if the thermostats do not fit the integrator. */
@@ -268,6 +286,14 @@ private:
    * would move farther than the skin. @p kick_first: first do the previous
    * step's closing half kick (deferred by run_md) in the same sweep. */
   void drift_checked(bool kick_first = false);
+  /** RESPA inner substep: v += kick_dt F_fast/m, x += h v (no rotation: the
+   * fast forces are central), checked and refused as drift_checked (the
+   * substeps before the refused one stay done). */
+  void drift_checked_substep(double kick_dt, double h);
+  /** v += kick_dt F_fast/m of the locals (fixed components: v = 0). */
+  void kick_fast(double kick_dt);
+  /** The refusal of drift_checked: the collective message and throw. */
+  [[noreturn]] void refuse_step(int bad, double bad_disp2, double step_len, int n_sub);
   /** Some auto-update accumulator updates at the current step. */
   bool accumulator_due() const;
 
@@ -279,6 +305,10 @@ private:
   Thermostat m_thermo;
   IntegratorKind m_integrator = IntegratorKind::VelocityVerlet;
   SteepestDescentParams m_sd;
+  int m_substeps = 1; // RESPA substeps of the fast forces (1: none)
+  /** RESPA: compute_forces leaves the fast forces out (run_md_respa). */
+  bool m_exclude_fast = false;
+  std::vector<Utils::Vector3d> m_f_fast;
   double m_time_step = -1.;
   double m_time = 0.;
   std::uint64_t m_step = 0;

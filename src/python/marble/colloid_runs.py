@@ -83,18 +83,22 @@ def every(system, t):
     return max(1, int(round(t / system.time_step)))
 
 
-def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0, integrator="vv", dt=None):
+def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0, integrator="vv", dt=None,
+                substeps=1):
     """Paper solvent in a cubic box of side L with one marble of radius R at the
     centre (marble_box); total momentum set to zero; `warmup` tau of equilibration.
     ``integrator`` is "vv" (velocity Verlet, the paper's) or "shardlow" (the DPD
     pairs by Shardlow's exact pair update, doc/dpd.md); ``dt`` defaults to
-    default_dt(integrator, R)."""
+    default_dt(integrator, R); ``substeps``: the integrator's RESPA substeps for
+    the marble's wall (set_vv / set_shardlow(substeps=...), doc/speed-accuracy.md)."""
     dt = default_dt(integrator, R) if dt is None else float(dt)
     if not dt > 0:
         raise ValueError(f"dt must be > 0, got {dt}")
     system, colloid, solvent = marble_box(L, R, gamma, seed, coupling=coupling, dt=dt)
     if integrator == "shardlow":
-        system.integrator.set_shardlow()
+        system.integrator.set_shardlow(substeps=substeps)
+    elif substeps != 1:
+        system.integrator.set_vv(substeps=substeps)
     if warmup > 0:
         system.integrator.run(steps_for(system, warmup))
     return system, colloid, solvent

@@ -65,9 +65,18 @@ class Integrator:
             sys.stderr.write("\n")
         return done
 
-    def set_vv(self):
-        """Velocity Verlet (the default)."""
-        self._core.set_vv()
+    def set_vv(self, substeps=1):
+        """Velocity Verlet (the default).
+
+        ``substeps`` (int in [1, 100], default 1 = plain velocity Verlet):
+        RESPA multiple time stepping (Tuckerman, Berne & Martyna 1992) for the
+        stiff colloid pairs: the conservative pair forces of the colloid pair
+        list (e.g. a marble's LJ wall) are integrated with ``substeps`` inner
+        steps of ``time_step / substeps``; all other forces (solvent pairs,
+        walls, external, Langevin, the colloid pairs' friction and noise) keep
+        the outer step. One MPI rank only; not with Lees-Edwards or SRD
+        (RuntimeError at run time). See doc/speed-accuracy.md."""
+        self._core.set_vv(substeps)
 
     def set_steepest_descent(self, f_max=None, gamma=None, max_displacement=None):
         """Steepest descent: x += clip(gamma F, +-max_displacement) until max ``|F|`` < f_max.
@@ -86,7 +95,7 @@ class Integrator:
         except ValueError as err:
             raise IntegratorParameterError(str(err)) from None
 
-    def set_shardlow(self):
+    def set_shardlow(self, substeps=1):
         """Shardlow S1 splitting for DPD (doc/stability.md): each step first
         updates the velocities of every DPD pair of the solvent, one pair after
         the other, with the exact solution of the pair's friction + noise over
@@ -94,8 +103,13 @@ class Integrator:
         Verlet with the conservative forces. Removes most of the kT(dt) drift of
         plain VV. Colloid (marble) pairs and tunable-slip walls keep their explicit
         friction inside the VV part. ``particle.f`` then excludes the solvent's DPD
-        pair forces. Raises FeaturesError without DPD."""
-        self._core.set_shardlow()
+        pair forces. Raises FeaturesError without DPD.
+
+        ``substeps`` (int in [1, 100], default 1): RESPA substeps for the stiff
+        colloid pair forces, as in :meth:`set_vv`; the pair sweep stays at the
+        outer step. ``set_shardlow(substeps=2)`` lets the R = 3 marble scene
+        run at a larger time_step (doc/speed-accuracy.md)."""
+        self._core.set_shardlow(substeps)
 
     def set_dpd_vv(self):
         """DPD-VV (Besold et al. 2000): velocity Verlet whose DPD friction is
@@ -117,8 +131,9 @@ class Integrator:
         self._core.set_brownian_dynamics()
 
     def get_state(self):
-        """The active integrator: ``{"name": ...}`` plus steepest descent's parameters."""
+        """The active integrator: ``{"name": ...}`` plus steepest descent's
+        parameters, or velocity Verlet's and Shardlow's ``substeps``."""
         name = self._core.integrator_name()
-        if name in ("Shardlow", "DPDVV", "BrownianDynamics"):
+        if name in ("DPDVV", "BrownianDynamics"):
             return {"name": name}
         return dict(self._core.integrator_state())
