@@ -363,9 +363,10 @@ void System::kick_fast(double kick_dt) {
   }
 }
 
-void System::drift_checked_substep(double kick_dt, double h) {
-  double const max2 = m_cells.skin() * m_cells.skin();
-  double const lim2 = 0.25 * m_cells.skin() * m_cells.skin();
+bool System::drift_checked_substep(double kick_dt, double h) {
+  double const skin = m_cells.skin();
+  double const max2 = skin * skin;
+  double const lim2 = 0.25 * skin * skin;
   int const n = m_ps.n_local();
   auto *const v = m_ps.v.data();
   auto *const x = m_ps.pos.data();
@@ -393,6 +394,8 @@ void System::drift_checked_substep(double kick_dt, double h) {
   int bad = -1;
   double bad_disp2 = 0.;
   bool moved = false;
+  // the largest displacement since the last build, of any local and of a colloid
+  double dmax2 = 0., dcol2 = 0.;
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
@@ -402,7 +405,13 @@ void System::drift_checked_substep(double kick_dt, double h) {
       bad_disp2 = disp2;
       break;
     }
-    moved |= (x[i] + dx - x0[i]).norm2() > lim2;
+    double const dd2 = (x[i] + dx - x0[i]).norm2();
+    moved |= dd2 > lim2;
+    dmax2 = std::max(dmax2, dd2);
+#ifdef MARBLE
+    if (m_colloids.is_colloid_type(m_ps.type[i]))
+      dcol2 = std::max(dcol2, dd2);
+#endif
   }
   int const vote = m_comm.max(bad >= 0 ? 2 : (moved ? 1 : 0));
   if (vote == 2)
@@ -414,6 +423,11 @@ void System::drift_checked_substep(double kick_dt, double h) {
     x[i] += dx;
   }
   m_displacement_hint = vote;
+  // The colloid pair list holds the pairs within range + skin at the build:
+  // it stays valid while no pair came closer by skin, |dx_j| + |dx_colloid| <
+  // skin, which lets beads move up to ~skin (not skin/2, the main list's
+  // criterion, checked at the end of the step)
+  return std::sqrt(dmax2) + std::sqrt(dcol2) >= skin;
 }
 
 int System::run_md_respa(int n_steps) {
@@ -452,12 +466,14 @@ int System::run_md_respa(int n_steps) {
       kick(0.5 * dt);
       for (int k = 0; k < n_sub; ++k) {
         // the inner half kicks of substeps k - 1 and k in one
-        drift_checked_substep(k == 0 ? 0.5 * h : h, h);
+        bool const colloid_list_stale = drift_checked_substep(k == 0 ? 0.5 * h : h, h);
         // (without fast forces nothing is evaluated between the substeps: the
         // list is checked at the end, as with substeps = 1)
         if (k + 1 < n_sub && have_fast) {
-          if (m_displacement_hint == 1)
+          if (colloid_list_stale) {
+            m_displacement_hint = 1;
             ensure_lists(); // rebuild (the pairs of the colloid list too)
+          }
           compute_fast_forces();
         }
       }

@@ -288,8 +288,9 @@ private:
   void drift_checked(bool kick_first = false);
   /** RESPA inner substep: v += kick_dt F_fast/m, x += h v (no rotation: the
    * fast forces are central), checked and refused as drift_checked (the
-   * substeps before the refused one stay done). */
-  void drift_checked_substep(double kick_dt, double h);
+   * substeps before the refused one stay done). Returns whether the colloid
+   * pair list must be rebuilt before fast forces at the new positions. */
+  bool drift_checked_substep(double kick_dt, double h);
   /** v += kick_dt F_fast/m of the locals (fixed components: v = 0). */
   void kick_fast(double kick_dt);
   /** The refusal of drift_checked: the collective message and throw. */
