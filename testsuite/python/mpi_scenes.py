@@ -214,6 +214,18 @@ def scene_shardlow():
     return s, dict(msg=np.array(msg))
 
 
+def scene_respa():
+    """RESPA substeps (integrator.set_vv(substeps=2)) on N ranks: refused (one rank only)."""
+    s = fluid(4.0)
+    s.integrator.set_vv(substeps=2)
+    try:
+        s.integrator.run(1)
+        msg = "no error"
+    except RuntimeError as e:
+        msg = str(e)
+    return s, dict(msg=np.array(msg))
+
+
 def _narrow(box, r_cut, steps=30, seed=3):
     """A DPD fluid (rho = 3) in a small box with a long cutoff: on several
     ranks the domains are thinner than the interaction range (cutoff + skin

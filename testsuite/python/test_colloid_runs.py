@@ -41,9 +41,16 @@ def test_integrator_choice():
     assert s2.time_step == pytest.approx(0.01)
     assert s2.integrator.get_state()["name"] == "VelocityVerlet"
     assert cr.every(s2, 0.05) == 5 and cr.every(s2, 0.1) == 10
-    # Shardlow's step shrinks above R = 2 (the marble's WCA wall, advisor.marble_dt)
-    assert cr.default_dt("shardlow", 2.0) == 0.04 and cr.default_dt("shardlow", 3.0) == 0.03
-    assert cr.default_dt("vv", 3.0) == 0.01
+    # above R = 2 Shardlow's step takes RESPA substeps for the marble's WCA wall
+    # (advisor.marble_dt, marble_substeps; doc/speed-accuracy.md)
+    assert cr.default_dt("shardlow", 2.0) == 0.04 and cr.default_dt("shardlow", 3.0) == 0.06
+    assert cr.default_substeps("shardlow", 2.0) == 1 and cr.default_substeps("shardlow", 3.0) == 3
+    assert cr.default_dt("vv", 3.0) == 0.01 and cr.default_substeps("vv", 3.0) == 1
+    assert s.integrator.get_state()["substeps"] == 1
+    s3, _, _ = cr.make_system(8.0, 2.5, 5.0, 1, integrator="shardlow", warmup=0.0)
+    assert s3.time_step == pytest.approx(0.06) and s3.integrator.get_state()["substeps"] == 3
+    s4, _, _ = cr.make_system(8.0, 2.5, 5.0, 1, integrator="shardlow", dt=0.03, warmup=0.0)
+    assert s4.integrator.get_state()["substeps"] == 1  # another dt: no substeps
     with pytest.raises(ValueError, match="integrator must be one of"):
         cr.make_system(6.0, 1.5, 5.0, 1, integrator="euler")
     with pytest.raises(ValueError, match="dt must be > 0"):

@@ -50,13 +50,22 @@ ROTATES = {"marble": True, "srd": True, "core": False}
 
 
 def marble_dt(R):
-    """Shardlow step of the marble scene: 0.04 (the bench's) up to R = 2; 0.03
-    for larger colloids. At R = 3 (L = 12, drag at v = 0.12, skin 0.4) dt = 0.04
-    sent a bead through the marble's WCA wall fast enough to move 0.40-0.50 in
-    one step in 3 of 3 runs within 190-440 time units (the integrator's check
-    stops the run); dt = 0.03 ran 5 of 5 runs of 1000-2000 time units, and
-    R = 2 at 0.04 ran 3 of 3 runs of 1500 (doc/speed-accuracy.md)."""
-    return 0.04 if _pos("R", R) <= 2.0 else 0.03
+    """Shardlow step of the marble scene: 0.04 (the bench's) up to R = 2; 0.06 for
+    larger colloids, with marble_substeps(R) = 3 RESPA substeps for the marble's
+    WCA wall. At R = 3 (L = 12, drag at v = 0.12, skin 0.4) plain Shardlow at
+    dt = 0.04 sent a bead through the wall fast enough to move 0.40-0.50 in one
+    step in 3 of 3 runs within 190-440 time units (the integrator's check stops
+    the run) and dt = 0.03 was the largest safe plain step; with the wall
+    integrated at h = dt/3 = 0.02, dt = 0.06 ran 3 of 3 runs of 1000 time units
+    with the same D (doc/speed-accuracy.md, "RESPA substeps for the marble's
+    wall"); R = 2 at 0.04 ran 3 of 3 runs of 1500."""
+    return 0.04 if _pos("R", R) <= 2.0 else 0.06
+
+
+def marble_substeps(R):
+    """RESPA substeps of the marble scene's Shardlow step marble_dt(R)
+    (integrator.set_shardlow(substeps=...)): 1 up to R = 2, 3 above."""
+    return 1 if _pos("R", R) <= 2.0 else 3
 
 
 def core_dt(R):
@@ -115,7 +124,7 @@ class Scene:
         s, col, sol = marble_box(self.L, self.R, gamma, seed, rho=st["rho"],
                                  gamma_dpd=st["gamma_dpd"], kT=KT, dt=self.dt, coupling=coupling,
                                  skin=0.5)
-        s.integrator.set_shardlow()
+        s.integrator.set_shardlow(substeps=marble_substeps(self.R))
         self._keep(s, col, len(sol))
 
     # (b) SRD solvent, stochastic (stick) or specular (slip) colloid
@@ -256,7 +265,7 @@ def _pos(name, x):
 def model_dt(model, R, table=None):
     """The time step of ``model`` at radius R (the core-modified colloid's
     VV step shrinks with the stiffness of its thin colloid-solvent shell; the
-    marble's Shardlow step is 0.03 above R = 2, marble_dt)."""
+    marble's Shardlow step is 0.06 with 3 RESPA substeps above R = 2, marble_dt)."""
     _check_model(model)
     if model == "core":
         return core_dt(R)

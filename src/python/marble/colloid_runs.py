@@ -57,13 +57,23 @@ INTEGRATORS = ("vv", "shardlow")
 def default_dt(integrator, R):
     """The samples' time step for @p integrator and a marble of radius @p R:
     the paper's 0.01 for velocity Verlet; for Shardlow the advisor's
-    marble_dt(R), 0.04 up to R = 2 and 0.03 above (at R = 3, dt = 0.04 lets
-    rare beads hit the marble's WCA wall hard enough to move more than the
-    skin in one step; doc/speed-accuracy.md)."""
+    marble_dt(R): 0.04 up to R = 2, and 0.06 with default_substeps = 3 RESPA
+    substeps for the marble's wall above (at R = 3, plain Shardlow at dt = 0.04
+    lets rare beads hit the WCA wall hard enough to move more than the skin in
+    one step; doc/speed-accuracy.md)."""
     if check_integrator(integrator) == "vv":
         return DT
     from .advisor import marble_dt
     return marble_dt(R)
+
+
+def default_substeps(integrator, R):
+    """The RESPA substeps that go with default_dt(integrator, R): 1 for velocity
+    Verlet, advisor.marble_substeps(R) for Shardlow (3 above R = 2)."""
+    if check_integrator(integrator) == "vv":
+        return 1
+    from .advisor import marble_substeps
+    return marble_substeps(R)
 
 
 def check_integrator(integrator):
@@ -84,13 +94,19 @@ def every(system, t):
 
 
 def make_system(L, R, gamma, seed, coupling="tunable_slip", warmup=10.0, integrator="vv", dt=None,
-                substeps=1):
+                substeps=None):
     """Paper solvent in a cubic box of side L with one marble of radius R at the
     centre (marble_box); total momentum set to zero; `warmup` tau of equilibration.
     ``integrator`` is "vv" (velocity Verlet, the paper's) or "shardlow" (the DPD
     pairs by Shardlow's exact pair update, doc/dpd.md); ``dt`` defaults to
     default_dt(integrator, R); ``substeps``: the integrator's RESPA substeps for
-    the marble's wall (set_vv / set_shardlow(substeps=...), doc/speed-accuracy.md)."""
+    the marble's wall (set_vv / set_shardlow(substeps=...), doc/speed-accuracy.md),
+    default: default_substeps(integrator, R) when dt is default_dt(integrator, R)
+    (given or defaulted), else 1."""
+    check_integrator(integrator)
+    if substeps is None:
+        substeps = default_substeps(integrator, R) if dt is None or float(dt) == default_dt(integrator, R) \
+            else 1
     dt = default_dt(integrator, R) if dt is None else float(dt)
     if not dt > 0:
         raise ValueError(f"dt must be > 0, got {dt}")
@@ -274,7 +290,8 @@ def common_args(description, default_time, paper_time):
                         "update (doc/speed-accuracy.md's choice at dt = 0.04)")
     p.add_argument("--dt", type=float, default=None,
                    help="time step (default 0.01 with vv; with shardlow 0.04 up to R = 2, "
-                        "0.03 above)")
+                        "0.06 with 3 RESPA substeps for the marble's wall above; a non-default "
+                        "dt runs without substeps)")
     return p
 
 
