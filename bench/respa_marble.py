@@ -11,7 +11,7 @@ D, D_err (drag_run: blocking or the floor sqrt(2D/T)/v), cpu_s (process time of 
 drag run, 20 + T tau), cpu_per_1000 (cpu_s per 1000 tau of it), and the solvent's kT
 (mean m v^2 / 3 with the solvent's mean velocity removed, sampled every 0.5 tau
 over --kt_time tau after the drag run, force still on; error: std / sqrt(n)).
---scene20 N: time N steps of the paper's L = 20 scene per setting instead (CPU-s per tau).
+--gamma G: another surface friction (default 5). --scene20 N: time N steps of the paper's L = 20 scene per setting instead (CPU-s per tau).
 """
 import argparse
 import json
@@ -39,12 +39,12 @@ def kT_solvent(system, t, every_tau=0.5):
     return float(vals.mean()), float(vals.std(ddof=1) / np.sqrt(len(vals)))
 
 
-def one_run(dt, n, seed, t_prod, kt_time):
-    out = dict(dt=dt, substeps=n, seed=seed, t_prod=t_prod)
+def one_run(dt, n, seed, t_prod, kt_time, gamma=GAMMA):
+    out = dict(dt=dt, substeps=n, seed=seed, t_prod=t_prod, gamma=gamma)
     t0 = time.process_time()
     system = None
     try:
-        system, col, _ = make_system(L, R, GAMMA, seed, integrator="shardlow", dt=dt, substeps=n)
+        system, col, _ = make_system(L, R, gamma, seed, integrator="shardlow", dt=dt, substeps=n)
         t1 = time.process_time()
         res = drag_run(system, col, FORCE, t_prod)
         cpu = time.process_time() - t1
@@ -75,12 +75,13 @@ def main():
     ap.add_argument("--time", type=float, default=1000.0)
     ap.add_argument("--kt_time", type=float, default=50.0)
     ap.add_argument("--scene20", type=int, default=0)
+    ap.add_argument("--gamma", type=float, default=GAMMA, help="the marble's surface friction")
     a = ap.parse_args()
     settings = [(float(x.split(":")[0]), int(x.split(":")[1])) for x in a.settings.split(",")]
     seeds = [int(s) for s in a.seeds.split(",")]
     for seed in seeds:
         for dt, n in settings:
-            r = scene20(dt, n, a.scene20, seed) if a.scene20 else one_run(dt, n, seed, a.time, a.kt_time)
+            r = scene20(dt, n, a.scene20, seed) if a.scene20 else one_run(dt, n, seed, a.time, a.kt_time, a.gamma)
             print(json.dumps(r), flush=True)
             sys.stderr.write(f"{r}\n")
 
