@@ -53,6 +53,10 @@ ETA0, ETA0_ERR = 0.3290, 0.0030  # doc/suspensions.md section 7d, exact density 
 # eta_0's (the runs' D only, 0.0092) and with it (0.010); D of the a = 1 runs
 C_T, C_T_ERR = sus.STICK_RADIUS_RATIO, 0.010
 D_CORE1, D_CORE1_ERR, L_CORE1 = 0.00628, 0.00014, L_PHI05
+# uniform-shear eta_r of the stick defaults (doc/suspensions.md 7k: 9, 14, 11 seeds) and
+# the values quoted in issue 13 (7j's phi = 0.098 over five seeds, 7e's bulk-solvent 0.2)
+MEASURED_ETA_R = ((0.098, "1.322(27) (7k); 1.391(58) (7j)"), (0.196, "2.043(34) (7k)"),
+                  (0.1966, "2.40(9) (7e, reverse Poiseuille)"), (0.303, "3.695(54) (7k)"))
 
 
 def parse(argv=None):
@@ -117,10 +121,21 @@ def acf_integral(x, lag, dt):
     return dt * (acf.sum() - 0.5 * acf[0] - 0.5 * acf[-1]) / 3.0, acf / 3.0
 
 
+def msd_D(x, dt, lo=20.0, hi=100.0):
+    """D = slope/6 of the MSD of a (n, 3) unfolded trajectory sampled every dt,
+    fitted over lags lo..hi (on a 1-time-unit grid)."""
+    k = max(1, int(round(1.0 / dt)))
+    p = x[::k]
+    h = dt * k
+    lags = np.arange(int(round(lo / h)), int(round(hi / h)) + 1)
+    msd = np.array([np.mean(np.sum((p[l:] - p[:-l]) ** 2, axis=1)) for l in lags])
+    return float(np.polyfit(lags * h, msd, 1)[0] / 6.0)
+
+
 def drive(args):
     from marble.accumulators import TimeSeries
     from marble.diffusion import blocking
-    from marble.observables import ParticleAngularVelocities
+    from marble.observables import ParticleAngularVelocities, ParticlePositions
     marble.assert_features("ROTATION", "EXTERNAL_FORCE", "TRANS_DPD", "DPD")
     t0 = time.process_time()
     s, info = colloid_box(args)
@@ -130,7 +145,9 @@ def drive(args):
     c.ext_torque = [0.0, 0.0, args.torque]
     s.integrator.run(int(round(args.settle / args.dt)))
     ts = TimeSeries(obs=ParticleAngularVelocities(ids=cid, system=s), delta_N=args.every)
+    tp = TimeSeries(obs=ParticlePositions(ids=cid, system=s), delta_N=args.every)
     s.auto_update_accumulators.add(ts)
+    s.auto_update_accumulators.add(tp)
     steps = int(round(args.time / args.dt))
     chunk = max(args.every, int(round(100.0 / args.dt)) // args.every * args.every)
     kts, done = [], 0
@@ -142,7 +159,9 @@ def drive(args):
         v = np.asarray(solvent.v)
         kts.append(float(np.mean(v ** 2)))  # bead mass 1
     s.auto_update_accumulators.remove(ts)
+    s.auto_update_accumulators.remove(tp)
     w = np.asarray(ts.time_series()).reshape(-1, 3)
+    pos = np.asarray(tp.time_series()).reshape(-1, 3)
     wz = w[:, 2]
     blk = blocking(wz)
     omega = float(blk.mean)
@@ -161,6 +180,9 @@ def drive(args):
     gk_perp = np.array([acf_integral(np.c_[dw[b][:, :2], np.zeros(len(b))], lag, tau)[0] * 1.5 for b in blocks])
     ke = np.array([I_rot * np.mean(dw[b] ** 2) / KT for b in blocks])
     sq = math.sqrt(len(blocks))
+    # the colloid's translational D (equilibrium: a torque along z does not move a
+    # sphere at linear order) from the MSD slope over lags 20-100 per block
+    Dm = np.array([msd_D(pos[b], tau) for b in blocks])
     rho = float(info["n_solvent"]) / (args.L ** 3 - 4.0 / 3.0 * math.pi * info["core_radius"] ** 3)
     out = dict(part="drive", L=args.L, torque=args.torque, seed=args.seed, time=args.time, dt=args.dt,
                settle=args.settle, every=args.every, n_solvent=info["n_solvent"], rho_free=rho,
@@ -174,6 +196,7 @@ def drive(args):
                D_r_gk=float(gk.mean()), D_r_gk_err=float(gk.std(ddof=1) / sq),
                D_r_gk_perp=float(gk_perp.mean()), D_r_gk_perp_err=float(gk_perp.std(ddof=1) / sq),
                tmax=args.tmax, kT_rot=float(ke.mean()), kT_rot_err=float(ke.std(ddof=1) / sq),
+               D_msd=float(Dm.mean()), D_msd_err=float(Dm.std(ddof=1) / sq), msd_window=[20.0, 100.0],
                kT_solvent=float(np.mean(kts)), cpu_s=time.process_time() - t0)
     print(f"L = {args.L:.4f}, {info['n_solvent']} beads (free-volume density {rho:.4f}), core a = "
           f"{info['core_radius']:.4f}, T = {args.torque}: <omega> = ({out['omega'][0]:+.5f}, "
@@ -182,7 +205,8 @@ def drive(args):
           f"Re_rot = {out['Re_rot']:.3f}")
     print(f"Green-Kubo D_r (to t = {args.tmax}) = {out['D_r_gk']:.5f} +/- {out['D_r_gk_err']:.5f} "
           f"(x, y only {out['D_r_gk_perp']:.5f} +/- {out['D_r_gk_perp_err']:.5f}); kT/zeta_L = {KT / zeta_L:.5f}; "
-          f"<I dw^2>/(3 kT) = {out['kT_rot']:.4f} +/- {out['kT_rot_err']:.4f}; solvent kT {out['kT_solvent']:.4f}; "
+          f"<I dw^2>/(3 kT) = {out['kT_rot']:.4f} +/- {out['kT_rot_err']:.4f}; D (MSD) = {out['D_msd']:.5f} +/- "
+          f"{out['D_msd_err']:.5f}; solvent kT {out['kT_solvent']:.4f}; "
           f"CPU {out['cpu_s']:.0f} s")
     return out
 
@@ -231,7 +255,16 @@ def table(args):
               f"{z:.4f} +/- {ze:.4f} ({chi2:.1f}/{dof}) | {z0:.4f} +/- {z0e:.4f} | {Rr:.4f} +/- {Rre:.4f} "
               f"(eta_0: {Rre_eta:.4f}) | {Rr / a:.4f} +/- {Rre / a:.4f} | {gk[0]:.3f} +/- {gk[1]:.3f} | "
               f"{ke[0]:.4f} +/- {ke[1]:.4f} | {cpu:.0f} |")
+        dm = [r for r in rs if "D_msd" in r]
+        if len(dm) >= 2:
+            Dm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
+            Rt_m, Rt_me = theory.hydrodynamic_radius_from_D(Dm[0], eta, L, D_err=Dm[1], kT=KT)
+            print(f"|   | equilibrium D (MSD, {len(dm)} runs) = {Dm[0]:.5f} +/- {Dm[1]:.5f} (chi^2 {Dm[2]:.1f}/{Dm[3]}): "
+                  f"Hasimoto stick R_t = {Rt_m:.3f} +/- {Rt_me:.3f} (R_t/a {Rt_m / a:.3f}) |")
+        else:
+            Dm, Rt_m, Rt_me = (None, None, None, None), None, None
         out["groups"].append(dict(L=L, torque=T, core_radius=a, n=len(rs), time=tt, zeta_L=z, zeta_L_err=ze,
+                                  D_msd=Dm[0], D_msd_err=Dm[1], R_t_msd=Rt_m, R_t_msd_err=Rt_me,
                                   chi2=chi2, dof=dof, zeta_0=z0, zeta_0_err=z0e, R_r=Rr, R_r_err=Rre,
                                   R_r_err_eta=Rre_eta, omega=om, gk_ratio=gk[0], gk_ratio_err=gk[1],
                                   kT_rot=ke[0], kT_rot_err=ke[1], cpu_s=cpu))
@@ -270,13 +303,21 @@ def table(args):
         except ValueError as exc:
             print(f"no Navier-slip sphere through (R_t, R_r): {exc}")
             out.update(slip_a=None, slip_beta=None)
-        for phi, meas in ((0.098, "1.391(58)"), (0.1966, "2.40"), (0.303, "3.695(54)")):
-            kd = theory.krieger_dougherty_viscosity(phi)
-            extra = ""
-            if out.get("intrinsic"):
-                kd2 = theory.krieger_dougherty_viscosity(phi * out["intrinsic"] / 2.5)
-                extra = f", with the slip sphere's phi_eff = {phi * out['intrinsic'] / 2.5:.4f}: {kd2:.3f}"
-            print(f"phi = {phi}: KD {kd:.3f}{extra}; measured {meas}")
+        # eta_r of Krieger-Dougherty for spheres of the drag radius (phi as built: R = c a)
+        # and of the rotational radius (phi (R_r/R)^3), against the uniform-shear values
+        Rr_tot = math.hypot(Rre, Rre_eta)
+        print("\n| phi | measured eta_r | KD, radius R_t = R | KD, radius R_r: phi_eff | eta_r |")
+        print("|---|---|---|---|---|")
+        out["predictions"] = []
+        for phi, meas in MEASURED_ETA_R:
+            kd_t = theory.krieger_dougherty_viscosity(phi)
+            pe = phi * Rr ** 3
+            kd_r = theory.krieger_dougherty_viscosity(pe)
+            kd_r_err = 0.5 * abs(theory.krieger_dougherty_viscosity(phi * (Rr + Rr_tot) ** 3)
+                                 - theory.krieger_dougherty_viscosity(phi * (Rr - Rr_tot) ** 3))
+            print(f"| {phi} | {meas} | {kd_t:.3f} | {pe:.4f} | {kd_r:.3f} +/- {kd_r_err:.3f} |")
+            out["predictions"].append(dict(phi=phi, measured=meas, kd_R=kd_t, phi_eff=pe, kd_Rr=kd_r,
+                                           kd_Rr_err=kd_r_err))
     return out
 
 
