@@ -269,6 +269,18 @@ def table(args):
                                   R_r_err_eta=Rre_eta, omega=om, gk_ratio=gk[0], gk_ratio_err=gk[1],
                                   kT_rot=ke[0], kT_rot_err=ke[1], cpu_s=cpu))
     # all calibrated groups together: zeta_0 (box-corrected) per group, weighted
+    # other cores (e.g. --radius-calibration none: a = 1, the core of section 7d's drag runs)
+    for a in sorted({g["core_radius"] for g in out["groups"]}):
+        if abs(a - R / C_T) < 1e-4:
+            continue
+        gs = [g for g in out["groups"] if g["core_radius"] == a]
+        z0, z0e, chi2, dof = weighted([g["zeta_0"] for g in gs], [g["zeta_0_err"] for g in gs])
+        Rr, Rre = theory.rotational_radius(z0, eta, zeta_err=z0e)
+        Rt_a = theory.hydrodynamic_radius_from_D(D_CORE1, eta, L_CORE1, kT=KT)[0]
+        print(f"\ncore a = {a:.4f}: zeta_0 = {z0:.4f} +/- {z0e:.4f}; R_r/a = {Rr / a:.4f} +/- {Rre / a:.4f} "
+              f"(zeta; eta_0 cancels in the ratio); R_r/R_t = {Rr / a / Rt_a:.4f} with section 7d's a = 1 drag")
+        out.setdefault("other_cores", []).append(dict(core_radius=a, zeta_0=z0, zeta_0_err=z0e,
+                                                      R_r_over_a=Rr / a, R_r_over_a_err=Rre / a))
     cal = [g for g in out["groups"] if abs(g["core_radius"] - R / C_T) < 1e-4]
     if cal:
         z0, z0e, chi2, dof = weighted([g["zeta_0"] for g in cal], [g["zeta_0_err"] for g in cal])
@@ -293,6 +305,22 @@ def table(args):
         out.update(zeta_0=z0, zeta_0_err=z0e, chi2=chi2, dof=dof, R_r=Rr, R_r_err=Rre, R_r_err_eta=Rre_eta,
                    core_radius=a, R_r_over_a=Rr / a, R_t_over_a=Rt_a, R_t_over_a_err=Rt_D,
                    ratio_r_t=q, ratio_r_t_err=qe)
+        # the drag-free R_t: the equilibrium MSD D of the calibrated runs in the L = 4.3756 box
+        # with T <= 0.85 (a spinning sphere feels the lift pi a^3 rho Omega x v, Rubinow & Keller,
+        # J. Fluid Mech. 11, 447 (1961), which turns its x-y velocity: D_xy falls by
+        # 1/(1 + (rho a^2 Omega/(6 eta))^2), 1.6 % at T = 0.85, 6 % at T = 1.7)
+        dm = [r for r in runs if "D_msd" in r and abs(r["core_radius"] - a) < 1e-6 and abs(r["L"] - L_CORE1) < 1e-3
+              and r["torque"] <= 0.85]
+        if len(dm) >= 2:
+            Dm, Dme, chi2m, dofm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
+            Rt_m, Rt_me = theory.hydrodynamic_radius_from_D(Dm, eta, L_CORE1, D_err=Dme, kT=KT)
+            qm = Rr_a / (Rt_m / a)
+            qme = qm * math.hypot(Rt_me / Rt_m, Rre / Rr)
+            print(f"equilibrium D (MSD) of the {len(dm)} calibrated runs at L = {L_CORE1:.4f}: {Dm:.5f} +/- {Dme:.5f} "
+                  f"(chi^2 {chi2m:.1f}/{dofm}): R_t = {Rt_m:.4f} +/- {Rt_me:.4f} (R_t/a {Rt_m / a:.4f}); "
+                  f"R_r/R_t(MSD) = {qm:.4f} +/- {qme:.4f}")
+            out.update(D_msd=Dm, D_msd_err=Dme, R_t_msd=Rt_m, R_t_msd_err=Rt_me, ratio_r_t_msd=qm,
+                       ratio_r_t_msd_err=qme)
         # slip sphere through (R_t, R_r), and what it predicts
         try:
             asl, beta = theory.slip_sphere_from_radii(Rt_a, Rr_a)
