@@ -15,15 +15,19 @@ phi = 0.05).
   is the larger of the blocking error and sqrt(2 D_r/t) with D_r = kT/zeta_L (the
   thermal angle's diffusion). The fluctuations delta omega = omega - <omega> give
   a Green-Kubo cross-check D_r = (1/3) int_0^tmax <delta omega(0) . delta omega(t)> dt
-  (10 blocks) and the spin's equipartition <I delta omega^2>/(3 kT).
+  (10 blocks) and the spin's equipartition <I delta omega^2>/(3 kT), and the colloid's
+  translational D from its MSD (lags 20-100, 10 blocks; a torque about z does not
+  move a sphere at linear order), in the lab frame.
 - ``--part table``: groups the drive runs of ``--results`` by (L, T), combines
   the seeds (weighted, error scaled by sqrt(chi^2/dof) when above 1), removes
   the periodic images (theory.rotational_friction_unbounded: 1/zeta_0 =
   1/zeta_L + 1/(6 eta L^3)), gives R_r = (zeta_0/(8 pi eta_0))^(1/3) with eta_0 =
   0.3290(30) (section 7d), compares it with the drag radius R_t = c a (c =
   STICK_RADIUS_RATIO = 1.013(10), section 7d), fits the Navier-slip sphere
-  (a, beta) to (R_t, R_r) and predicts its intrinsic viscosity and, through
-  Krieger-Dougherty, eta_r at phi = 0.1, 0.2, 0.3.
+  (a, beta) to (R_t, R_r) where one exists (R_r <= R_t), converts the MSD D to the
+  motion relative to the solvent (x (1 + M/M_s)^2, zero total momentum) for a
+  second, force-free R_t, and gives Krieger-Dougherty at phi and at phi (R_r/R)^3
+  against the measured uniform-shear eta_r.
 
     build/pymarble bench/stick_colloid_radii.py --part drive --torque 0.85 --time 10000 --seed 1 \\
         --json bench/results/stick_colloid_radii.jsonl
@@ -181,7 +185,8 @@ def drive(args):
     ke = np.array([I_rot * np.mean(dw[b] ** 2) / KT for b in blocks])
     sq = math.sqrt(len(blocks))
     # the colloid's translational D (equilibrium: a torque along z does not move a
-    # sphere at linear order) from the MSD slope over lags 20-100 per block
+    # sphere at linear order) from the MSD slope over lags 20-100 per block, in the lab frame
+    # (the table converts it to the motion relative to the solvent, as Hasimoto's D(L))
     Dm = np.array([msd_D(pos[b], tau) for b in blocks])
     rho = float(info["n_solvent"]) / (args.L ** 3 - 4.0 / 3.0 * math.pi * info["core_radius"] ** 3)
     out = dict(part="drive", L=args.L, torque=args.torque, seed=args.seed, time=args.time, dt=args.dt,
@@ -258,6 +263,8 @@ def table(args):
         dm = [r for r in rs if "D_msd" in r]
         if len(dm) >= 2:
             Dm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
+            fac = (1.0 + 4.0 * math.pi * a ** 3 / dm[0]["n_solvent"]) ** 2  # to the solvent's frame (below)
+            Dm = (Dm[0] * fac, Dm[1] * fac, Dm[2], Dm[3])
             Rt_m, Rt_me = theory.hydrodynamic_radius_from_D(Dm[0], eta, L, D_err=Dm[1], kT=KT)
             print(f"|   | equilibrium D (MSD, {len(dm)} runs) = {Dm[0]:.5f} +/- {Dm[1]:.5f} (chi^2 {Dm[2]:.1f}/{Dm[3]}): "
                   f"Hasimoto stick R_t = {Rt_m:.3f} +/- {Rt_me:.3f} (R_t/a {Rt_m / a:.3f}) |")
@@ -313,6 +320,13 @@ def table(args):
               and r["torque"] <= 0.85]
         if len(dm) >= 2:
             Dm, Dme, chi2m, dofm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
+            # the MSD is the colloid's lab (= centre-of-mass) frame displacement; Hasimoto's D(L), like the
+            # drag (measure_drag: velocity relative to the solvent's centre of mass), is that of
+            # X = r_c - R_solvent = r_c (1 + M/M_s) at zero total momentum: D_X = (1 + M/M_s)^2 D_lab
+            # (colloid mass M = rho 4/3 pi a^3, setup_suspension's default; beads of mass 1)
+            fac = (1.0 + 4.0 * math.pi * a ** 3 / dm[0]["n_solvent"]) ** 2
+            print(f"equilibrium D (MSD, lab frame) = {Dm:.5f} +/- {Dme:.5f}; relative to the solvent x {fac:.4f}")
+            Dm, Dme = Dm * fac, Dme * fac
             Rt_m, Rt_me = theory.hydrodynamic_radius_from_D(Dm, eta, L_CORE1, D_err=Dme, kT=KT)
             qm = Rr_a / (Rt_m / a)
             qme = qm * math.hypot(Rt_me / Rt_m, Rre / Rr)
