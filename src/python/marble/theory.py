@@ -335,3 +335,128 @@ def two_sphere_squeeze_lubrication(xi, terms="all"):
     if terms == "all":
         lam = lam + (3.0 / 56.0) * xi * np.log(1.0 / xi) + SQUEEZE_NEAR_FIELD_CONSTANT
     return _scalar(lam)
+
+
+# --- one sphere's radii by mode: translation, rotation, stresslet (doc/suspensions.md 7m) ---
+
+def rotational_friction_unbounded(zeta_L, eta, L, zeta_err=None):
+    """Rotational friction of a sphere in unbounded fluid from the one measured in a
+    periodic cube of edge L (torque / spin, one sphere per box):
+
+        1/zeta_0 = 1/zeta_L + 1/(6 eta L^3),
+
+    i.e. zeta_0 = zeta_L / (1 + zeta_L/(6 eta L^3)). The periodic velocity field has
+    zero mean vorticity, while a rotlet T (sphere included) carries the net
+    vorticity T/(3 eta); the lattice therefore counter-rotates the fluid at the
+    sphere by T/(6 eta L^3) (the image rotlets' own dipolar vorticity sums to zero
+    on a cubic lattice), and Faxen's law Omega = (1/2) curl u + T/zeta_0 gives the
+    above: the mobility is lowered by phi_r = (4 pi/3) R_r^3/L^3 of itself
+    (theory.rotational_diffusion_coefficient's L^-3 term; reference.md section 5),
+    whatever the surface. The next images' terms are higher order in R/L. With
+    ``zeta_err`` returns (zeta_0, its error), else zeta_0."""
+    zeta_L = _pos("zeta_L", zeta_L)
+    eta = _pos("eta", eta)
+    iL = _inv_L(L)
+    z0 = 1.0 / (1.0 / zeta_L + iL ** 3 / (6.0 * eta))
+    if zeta_err is None:
+        return _scalar(z0)
+    ze = np.asarray(zeta_err, dtype=float)
+    if np.any(ze < 0) or np.any(~np.isfinite(ze)):
+        raise ValueError(f"parameter 'zeta_err' must be >= 0 and finite, got {zeta_err}")
+    return _scalar(z0), _scalar(ze * (z0 / zeta_L) ** 2)
+
+
+def rotational_radius(zeta_r, eta, zeta_err=0.0, eta_err=0.0):
+    """Rotational (no-slip) radius R_r = (zeta_r / (8 pi eta))^(1/3) of an unbounded
+    rotational friction zeta_r (rotational_friction_unbounded for a periodic box);
+    returns (R_r, its error) with the relative errors of zeta_r and eta added in
+    quadrature and divided by 3."""
+    zeta_r = _pos("zeta_r", zeta_r)
+    eta = _pos("eta", eta)
+    for name, v in (("zeta_err", zeta_err), ("eta_err", eta_err)):
+        v = np.asarray(v, dtype=float)
+        if np.any(v < 0) or np.any(~np.isfinite(v)):
+            raise ValueError(f"parameter '{name}' must be >= 0 and finite, got {v}")
+    Rr = (zeta_r / (8.0 * np.pi * eta)) ** (1.0 / 3.0)
+    err = Rr / 3.0 * np.hypot(np.asarray(zeta_err, float) / zeta_r, np.asarray(eta_err, float) / eta)
+    return _scalar(Rr), _scalar(err)
+
+
+def _slip_beta(beta, lo):
+    beta = np.asarray(beta, dtype=float)
+    if np.any(np.isnan(beta)) or np.any(beta <= lo):
+        raise ValueError(f"parameter 'beta' (slip length / radius) must be > {lo}, got {beta}")
+    return beta
+
+
+def slip_sphere_intrinsic_viscosity(beta):
+    """Intrinsic viscosity (Einstein coefficient per volume fraction of the sphere
+    of radius a) of a sphere with Navier slip length b = beta a:
+
+        [eta] = 5/2 (1 + 2 beta)/(1 + 5 beta),
+
+    the stresslet S = (20/3) pi eta a^3 E (1 + 2 beta)/(1 + 5 beta) in a pure strain E.
+    Derivation (doc/suspensions.md 7m): u = E.x + A a^5 [E.x/r^5 - (5/2)(x.E.x) x/r^7]
+    + B a^3 (x.E.x) x/r^5; no penetration gives B = (3/2) A - 1, the Navier condition
+    u_t = (b/eta) sigma_rt gives A = -1/(1 + 5 beta), and S = -(8 pi eta/3) B a^3 E.
+    beta = 0: 5/2 (Einstein), beta = inf: 1 (Taylor's bubble). Valid for
+    beta > -1/5 (a negative slip length: the no-slip plane beyond a)."""
+    beta = _slip_beta(beta, -0.2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(np.isinf(beta), 1.0, 2.5 * (1 + 2 * beta) / (1 + 5 * beta))
+    return _scalar(out)
+
+
+def slip_sphere_radii(a, beta):
+    """The no-slip radii by mode of a sphere of radius a with Navier slip length
+    beta a: translation R_t = a (1 + 2 beta)/(1 + 3 beta) (Basset), rotation
+    R_r = a (1 + 3 beta)^(-1/3), stresslet R_s = a [(1 + 2 beta)/(1 + 5 beta)]^(1/3)
+    (zeta_t = 6 pi eta R_t, zeta_r = 8 pi eta R_r^3, S = (20/3) pi eta R_s^3 E).
+    All three are a (1 - beta) + O(beta^2): a thin slip layer shifts every mode's
+    radius alike to first order. Returns (R_t, R_r, R_s)."""
+    a = _pos("a", a)
+    beta = _slip_beta(beta, -0.2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        Rt = np.where(np.isinf(beta), 2.0 / 3.0, (1 + 2 * beta) / (1 + 3 * beta)) * a
+        Rr = np.where(np.isinf(beta), 0.0, (1 + 3 * beta) ** (-1.0 / 3.0)) * a
+        Rs = (slip_sphere_intrinsic_viscosity(beta) / 2.5) ** (1.0 / 3.0) * a
+    return _scalar(Rt), _scalar(Rr), _scalar(Rs)
+
+
+def slip_sphere_from_radii(R_t, R_r, branch="positive"):
+    """The Navier-slip sphere (a, beta) with translational radius R_t and rotational
+    radius R_r (slip_sphere_radii). q = R_r/R_t = (1 + 3 beta)^(2/3)/(1 + 2 beta) has
+    its maximum 1 at beta = 0 (q = 1 - beta^2 + O(beta^3)): a slip sphere of either
+    sign of slip has R_r <= R_t, so ValueError for R_r > R_t (no slip sphere fits),
+    and every q < 1 has two solutions: ``branch="positive"`` (beta > 0, q falls to 0
+    as beta -> inf) or ``"negative"`` (-1/5 < beta < 0, the no-slip plane beyond a;
+    q > 0.9048 there). Returns (a, beta)."""
+    R_t = float(_pos("R_t", R_t))
+    R_r = float(_pos("R_r", R_r))
+    if branch not in ("positive", "negative"):
+        raise ValueError(f"parameter 'branch' must be 'positive' or 'negative', got {branch!r}")
+    q = R_r / R_t
+
+    def ratio(b):
+        return (1 + 3 * b) ** (2.0 / 3.0) / (1 + 2 * b)
+
+    if q > 1.0:
+        raise ValueError(f"R_r/R_t = {q:.5g} > 1: no Navier-slip sphere has R_r > R_t "
+                         f"(R_r/R_t = 1 - beta^2 + ...)")
+    if q == 1.0:
+        return R_t, 0.0
+    if branch == "positive":
+        hi = 1.0
+        while ratio(hi) > q:
+            hi *= 2.0
+            if hi > 1e12:
+                raise ValueError(f"R_r/R_t = {q:.5g} too small for a slip sphere")
+        beta = _bisect(lambda b: ratio(b) - q, 0.0, hi)
+    else:
+        qmin = ratio(-0.2)
+        if not q > qmin:
+            raise ValueError(f"R_r/R_t = {q:.5g} must be > {qmin:.5g} on the negative branch "
+                             f"(slip length > -a/5)")
+        beta = _bisect(lambda b: ratio(b) - q, -0.2, 0.0)
+    a = R_t * (1 + 3 * beta) / (1 + 2 * beta)
+    return a, beta
