@@ -51,6 +51,13 @@ def test_integrator_choice():
     assert s3.time_step == pytest.approx(0.06) and s3.integrator.get_state()["substeps"] == 3
     s4, _, _ = cr.make_system(8.0, 2.5, 5.0, 1, integrator="shardlow", dt=0.03, warmup=0.0)
     assert s4.integrator.get_state()["substeps"] == 1  # another dt: no substeps
+    # the RESPA step rebuilds the lists every step at skin 0.4: its skin is 0.6
+    assert s3.cell_system.skin == pytest.approx(0.6)
+    assert s4.cell_system.skin == pytest.approx(0.4) and s2.cell_system.skin == pytest.approx(0.4)
+    assert cr.default_skin("shardlow", 3.0) == 0.6 and cr.default_skin("shardlow", 2.0) == 0.4
+    assert cr.default_skin("vv", 3.0) == 0.4 and cr.default_skin("shardlow", 3.0, dt=0.03) == 0.4
+    s5, _, _ = cr.make_system(8.0, 2.5, 5.0, 1, integrator="shardlow", warmup=0.0, skin=0.5)
+    assert s5.cell_system.skin == pytest.approx(0.5)
     with pytest.raises(ValueError, match="integrator must be one of"):
         cr.make_system(6.0, 1.5, 5.0, 1, integrator="euler")
     with pytest.raises(ValueError, match="dt must be > 0"):
