@@ -13,6 +13,11 @@ Shardlow dt = 0.01, torque T = 0.85 e_z (surface speed ~0.08, Re_rot ~0.75),
   (8 pi eta_0 R_t^3 / (1 - phi) = 8.70): the colloid rotates as a sphere of
   R_r = 1.05 R (section 7m); the test fails if the rotational friction moves
   by more than ~8 % either way.
+- the finding itself, against theory: the box-corrected friction (theory.
+  rotational_friction_unbounded) more than 3 sigma above a no-slip sphere of the
+  drag radius R_t = 1 (8 pi eta_0 R_t^3, eta_0 = 0.3290) and below one of radius
+  a + the friction shell (the colloid cannot drag more than its shell): the test
+  fails if the colloid becomes one sphere (then section 7m must change);
 - <omega_x>, <omega_y> within 4 sigma of 0 (the torque turns the colloid about z only);
 - the spin fluctuations at kT: <I (omega - <omega>)^2>/(3 kT) within 3 % + 3 sigma.
 """
@@ -28,6 +33,7 @@ if not marble.has_features("DPD", "TRANS_DPD", "ROTATION", "HAT", "CONTACT", "LU
     pytest.skip("needs DPD, TRANS_DPD, ROTATION, HAT, CONTACT, LUBRICATION, MASS, EXTERNAL_FORCE",
                 allow_module_level=True)
 
+from marble import theory
 from marble.accumulators import TimeSeries
 from marble.diffusion import blocking
 from marble.observables import ParticleAngularVelocities
@@ -59,6 +65,17 @@ def test_driven_rotation_friction():
     print(f"zeta_L = {zeta:.3f} +/- {zeta_err:.3f} (reference {ZETA_L_REF} +/- {ZETA_L_REF_ERR}); "
           f"omega_xy = {blk[0].mean:.5f}, {blk[1].mean:.5f}")
     assert abs(zeta - ZETA_L_REF) < 3 * sigma
+    # against theory: a no-slip sphere of the drag radius rotates faster than this colloid
+    eta0, r_t = 0.3290, 1.0
+    L = float(s.box_l[0])
+    z0, z0_err = theory.rotational_friction_unbounded(zeta, eta0, L, zeta_err=zeta_err)
+    zeta_noslip = 8 * math.pi * eta0 * r_t ** 3
+    a = float(info["core_radius"])
+    zeta_shell = 8 * math.pi * eta0 * (a + 0.265) ** 3  # the equal-volume friction shell (7d)
+    print(f"zeta_0 = {z0:.3f} +/- {z0_err:.3f}; no-slip sphere R_t: {zeta_noslip:.3f}, "
+          f"sphere a + shell: {zeta_shell:.3f}")
+    assert z0 - zeta_noslip > 3 * math.hypot(z0_err, zeta_noslip * 0.0030 / eta0)
+    assert z0 < zeta_shell
     for d in (0, 1):
         e = max(blk[d].error, math.sqrt(2 * (KT / zeta) / TIME))
         assert abs(blk[d].mean) < 4 * e
