@@ -39,6 +39,25 @@ inline double kick_particle(ParticleStore &ps, int i, double half_dt) {
 #endif
   return a;
 }
+
+// The half kick a f and the drift h (v + a f) of local i, as changes dv, dx
+// (fixed coordinates: v to 0, no drift); shared by the step and the RESPA
+// substep so that both do the same arithmetic.
+inline void kick_drift_of(ParticleStore const &ps, int i, double a, Vector3d const &f,
+                          Vector3d const &v, double h, Vector3d &dv, Vector3d &dx) {
+  if (!ps.has_fixed(i)) {
+    for (int d = 0; d < 3; ++d) {
+      dv[d] = a * f[d];
+      dx[d] = h * (v[d] + dv[d]);
+    }
+    return;
+  }
+  for (int d = 0; d < 3; ++d) {
+    bool const fx = ps.is_fixed(i, d);
+    dv[d] = fx ? -v[d] : a * f[d];
+    dx[d] = fx ? 0. : h * (v[d] + dv[d]);
+  }
+}
 } // namespace
 
 double System::kick_one(int i, double half_dt) { return kick_particle(m_ps, i, half_dt); }
@@ -68,19 +87,7 @@ void System::drift_checked(bool kick_first) {
   m_half_dt_over_m.resize(static_cast<std::size_t>(n));
   double *const am = m_half_dt_over_m.data();
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
-    double const a = am[i];
-    if (!m_ps.has_fixed(i)) {
-      for (int d = 0; d < 3; ++d) {
-        dv[d] = a * f[i][d];
-        dx[d] = dt * (v[i][d] + dv[d]);
-      }
-      return;
-    }
-    for (int d = 0; d < 3; ++d) {
-      bool const fx = m_ps.is_fixed(i, d);
-      dv[d] = fx ? -v[i][d] : a * f[i][d];
-      dx[d] = fx ? 0. : dt * (v[i][d] + dv[d]);
-    }
+    kick_drift_of(m_ps, i, am[i], f[i], v[i], dt, dv, dx);
   };
   int bad = -1;
   double bad_disp2 = 0.;
@@ -377,19 +384,7 @@ bool System::drift_checked_substep(double kick_dt, double h) {
   for (int i = 0; i < n; ++i)
     am[i] = kick_dt / m_ps.get_mass(i);
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
-    double const a = am[i];
-    if (!m_ps.has_fixed(i)) {
-      for (int d = 0; d < 3; ++d) {
-        dv[d] = a * f[i][d];
-        dx[d] = h * (v[i][d] + dv[d]);
-      }
-      return;
-    }
-    for (int d = 0; d < 3; ++d) {
-      bool const fx = m_ps.is_fixed(i, d);
-      dv[d] = fx ? -v[i][d] : a * f[i][d];
-      dx[d] = fx ? 0. : h * (v[i][d] + dv[d]);
-    }
+    kick_drift_of(m_ps, i, am[i], f[i], v[i], h, dv, dx);
   };
   int bad = -1;
   double bad_disp2 = 0.;
