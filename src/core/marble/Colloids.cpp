@@ -135,25 +135,13 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
 
 void Colloids::add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,
                                        std::vector<Vector3d> &f) const {
-  constexpr unsigned cons_mask = pair_kernels_with_role<KernelRole::conservative>();
-  for (auto const &pr : m_pairs) {
-    int const c = pr.colloid, j = pr.other;
-    Vector3d const d = ps.pos[j] - (ps.pos[c] + pr.shift);
-    double const r2 = d.norm2();
-    IAParams const &p = ia.get(ps.type[c], ps.type[j]);
-    if (r2 >= p.max_cut * p.max_cut)
-      continue;
-    double const r = std::sqrt(r2);
-    if (!(r > 0.))
-      continue;
-    // the conservative kernels read neither velocities nor noise
-    auto vij = [&] { return ps.v[j] - ps.v[c]; };
-    auto xi = [&]<class K>() { return Vector3d{}; };
-    auto mfac = [&] { return pair_mass_factor(ps, j, c); };
-    Vector3d const fc = pair_force<cons_mask>(p, d, r, vij, xi, mfac);
-    f[j] += fc;
-    f[c] -= fc;
-  }
+  // the pair loop without the thermostat: only the conservative kernels act
+  for_each_pair_force(ps, ia, NoiseContext{},
+                      [&](int c, int j, Vector3d const &, Vector3d const &f_cons, Vector3d const &,
+                          MarbleForce const &) {
+                        f[j] += f_cons;
+                        f[c] -= f_cons;
+                      });
 }
 
 void Colloids::dissipative_virial(ParticleStore const &ps, InteractionTable const &ia,
