@@ -234,6 +234,7 @@ class Setup(unittest.TestCase):
         self.assertEqual(i4["n_colloids"], 2)
         # bad input: a clear ValueError, nothing changed
         for extra, key in ((dict(radius_calibration="stick"), "radius_calibration"),
+                           (dict(radius_calibration="rotation"), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration="hydro"), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration=-1.0), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration=0.0), "radius_calibration"),
@@ -245,6 +246,41 @@ class Setup(unittest.TestCase):
                     sus.setup_suspension(s, **dict(kw, **extra))
                 self.assertEqual(len(s.part.all()), 0)
                 self.assertFalse(s.thermostat.dpd.active)
+
+    def test_stick_rotation_calibration(self):
+        """radius_calibration="rotation" builds the stick colloid on the core
+        a = radius / STICK_ROTATIONAL_RADIUS_RATIO (section 7m), so that its rotational
+        radius is ``radius``; the info names both radii (the drag radius a x
+        STICK_RADIUS_RATIO) and their volume fractions, and the default "stick"
+        reports the rotational radius and phi of its core as well."""
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            self.skipTest("needs TRANS_DPD and ROTATION")
+        cr, ct = sus.STICK_ROTATIONAL_RADIUS_RATIO, sus.STICK_RADIUS_RATIO
+        self.assertGreater(cr, ct)  # 7m: larger in rotation than in drag, by 7 sigma
+        self.assertGreater(cr - ct, 3 * math.hypot(sus.STICK_ROTATIONAL_RADIUS_RATIO_ERR,
+                                                   sus.STICK_RADIUS_RATIO_ERR))
+        R = 1.2
+        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4, solvent_count="poisson",
+                  boundary="stick")
+        s1, s2 = self.system(), self.system()
+        i1 = sus.setup_suspension(s1, radius_calibration="rotation", **kw)
+        i2 = sus.setup_suspension(s2, **kw)  # "stick"
+        a = R / cr
+        self.assertEqual((i1["radius_calibration"], i1["radius_ratio"]), ("rotation", cr))
+        self.assertAlmostEqual(i1["core_radius"], a, places=14)
+        self.assertAlmostEqual(i1["rotational_radius"], R, places=14)
+        self.assertAlmostEqual(i1["phi_rotational"], i1["phi"], places=14)
+        self.assertAlmostEqual(i1["hydrodynamic_radius"], a * ct, places=14)
+        self.assertAlmostEqual(i1["phi_hydrodynamic"], i1["phi"] * (ct / cr) ** 3, places=14)
+        self.assertAlmostEqual(i1["phi_core"], i1["phi"] / cr ** 3, places=14)
+        col = s1.part.by_ids(i1["colloid_ids"])
+        np.testing.assert_allclose(col.mass, 3 * 4 / 3 * math.pi * a ** 3, rtol=1e-14)
+        self.assertAlmostEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], a, places=14)
+        self.assertEqual(i1["n_colloids"], i2["n_colloids"])
+        self.assertAlmostEqual(i2["rotational_radius"], R / ct * cr, places=14)
+        self.assertAlmostEqual(i2["phi_rotational"], i2["phi"] * (cr / ct) ** 3, places=14)
+        s3 = self.system()
+        self.assertIsNone(sus.setup_suspension(s3, **dict(kw, boundary="slip"))["rotational_radius"])
 
     def test_boundary_defaults(self):
         """The defaults that depend on ``boundary`` (doc/suspensions.md 7i): slip is seed

@@ -35,6 +35,13 @@ PHI_RCP = 0.64
 STICK_RADIUS_RATIO = 1.013
 STICK_RADIUS_RATIO_ERR = 0.010
 
+#: Rotational radius / core radius of the same stick colloid: R_r = (zeta_r /
+#: (8 pi eta_0))^(1/3) from its rotational friction under a constant torque,
+#: box-corrected (doc/suspensions.md section 7m; error STICK_ROTATIONAL_RADIUS_RATIO_ERR).
+#: It is 5 % above the drag radius: the colloid is not one no-slip sphere.
+STICK_ROTATIONAL_RADIUS_RATIO = 1.0623
+STICK_ROTATIONAL_RADIUS_RATIO_ERR = 0.0035
+
 #: Solvent beads adsorbed per unit core area (beads within 1.0 of a core surface in
 #: excess of the bulk density), measured for seed 004's conservative forces
 #: (rho = 3, a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat; core
@@ -209,7 +216,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       default for "slip", seed 004): the core radius a = radius; ``"stick"`` (the
       default for "stick"): ``radius`` is the hydrodynamic (no-slip) radius and the
       core radius is a = radius / STICK_RADIUS_RATIO (1.013 +/- 0.010, measured
-      by the drag of one stick colloid, doc/suspensions.md section 7d); or a
+      by the drag of one stick colloid, doc/suspensions.md section 7d);
+      ``"rotation"`` (stick only): ``radius`` is the rotational radius and
+      a = radius / STICK_ROTATIONAL_RADIUS_RATIO (1.0623 +/- 0.0035, section 7m):
+      the choice for viscosity work if the stresslet follows the rotation, which
+      7m's Krieger-Dougherty comparison supports at phi = 0.2-0.3 but which is not
+      measured directly; or a
       number c > 0 (your own measured ratio): a = radius / c. Everything of the
       colloid is then built on the core a: the offsets of the colloid-solvent
       hat, DPD and surface friction, the equal-volume surface cutoff r'_c(a)
@@ -222,9 +234,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ratio was measured at the seed's settings and a ~ 1 only (another
       trans_gamma, stick_shell or solvent needs its own: bench/suspension_hasimoto.py).
       "none" with "stick" reproduces the uncalibrated colloid bit for bit. The
-      correction is small (one colloid's drag radius is its core radius within
-      ~1 %); the suspension's viscosity excess over Krieger-Dougherty at
-      phi >= 0.2 is not a radius effect (section 7d). Compare viscosities with an
+      drag correction is small (one colloid's drag radius is its core radius
+      within ~1 %), but its rotational radius is 5 % larger (section 7m), and
+      spheres of that radius account for most of the suspension's viscosity
+      excess over Krieger-Dougherty at phi = 0.2-0.3. Compare viscosities with an
       eta_0 measured at the same solvent density (``solvent_count="exact"``).
     - The DPD thermostat at ``kT`` with ``seed``.
 
@@ -240,7 +253,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     ``radius`` the given radius, ``core_radius`` a, ``radius_ratio`` radius/a,
     ``phi`` the volume fraction of spheres of the given radius and ``phi_core``
     that of the cores; ``hydrodynamic_radius`` and ``phi_hydrodynamic`` for
-    "stick": a x STICK_RADIUS_RATIO for the calibrated ratio, a x c for your c;
+    "stick": a x STICK_RADIUS_RATIO for "stick", "none" and "rotation", a x c for your c;
+    ``rotational_radius`` and ``phi_rotational`` for "stick": a x STICK_ROTATIONAL_RADIUS_RATIO;
     the effective ``solvent_count``, ``h_cut``, ``lubrication``, ``lubrication_form``
     and ``colloid_dpd`` after the boundary's defaults).
     Colloid-colloid pairs (range 2R + h_cut) go through the main Verlet list
@@ -291,8 +305,13 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
             raise ValueError("parameter 'radius_calibration': 'stick' applies to boundary='stick' only "
                              "(use 'none' or your own ratio)")
         ratio = STICK_RADIUS_RATIO
+    elif radius_calibration == "rotation":
+        if boundary != "stick":
+            raise ValueError("parameter 'radius_calibration': 'rotation' applies to boundary='stick' only "
+                             "(use 'none' or your own ratio)")
+        ratio = STICK_ROTATIONAL_RADIUS_RATIO
     elif isinstance(radius_calibration, str):
-        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick' or a ratio > 0, "
+        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick', 'rotation' or a ratio > 0, "
                          f"got {radius_calibration!r}")
     else:
         ratio = _positive("radius_calibration", radius_calibration)
@@ -425,14 +444,17 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if morse:
         ia[c, c].morse.set_params(**dict(morse, offset=2 * R))
     system.thermostat.set_dpd(kT=kT, seed=int(seed))
-    hydro = None
+    hydro = rot = None
     if boundary == "stick":
-        hydro = R * (STICK_RADIUS_RATIO if radius_calibration == "none" else ratio)
+        hydro = R * (STICK_RADIUS_RATIO if isinstance(radius_calibration, str) else ratio)
+        rot = R * STICK_ROTATIONAL_RADIUS_RATIO
     return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_user / V, radius=R_user,
                 core_radius=R, radius_ratio=ratio, radius_calibration=radius_calibration,
                 phi_core=n_col * v_col / V, hydrodynamic_radius=hydro, solvent_count=solvent_count,
                 adsorbed=adsorbed if solvent_count == "bulk" else None,
                 phi_hydrodynamic=None if hydro is None else n_col * 4.0 / 3.0 * math.pi * hydro ** 3 / V,
+                rotational_radius=rot,
+                phi_rotational=None if rot is None else n_col * 4.0 / 3.0 * math.pi * rot ** 3 / V,
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
