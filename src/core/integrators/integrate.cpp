@@ -346,10 +346,10 @@ int System::run_md(int n_steps) {
 // (marble/Colloids: e.g. a marble's LJ wall) are the fast forces F_f,
 // integrated with n = substeps inner steps of h = dt/n; everything else
 // (solvent pairs, walls, external and Langevin forces, the colloid pairs'
-// DPD and marble-coupling friction and noise, with their counters of the
-// outer step) is the slow part F_s at dt. One step:
+// DPD and, under velocity Verlet, marble-coupling friction and noise, with
+// their counters of the outer step) is the slow part F_s at dt. One step:
 //   v += dt/2 F_s/m;  n times { v += h/2 F_f/m; x += h v; F_f(x); v += h/2 F_f/m };
-//   F_s(x);  v += dt/2 F_s/m;  [Shardlow: the pair sweep]
+//   F_s(x);  v += dt/2 F_s/m;  [Shardlow: the pair sweep, marble coupling included]
 // with the inner half kicks of consecutive substeps merged. Between steps
 // particle.f holds F_s + F_f (as with substeps = 1); the step takes
 // F_s = f - F_f again. One MPI rank (check_scene_before_run).

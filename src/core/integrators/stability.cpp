@@ -140,7 +140,9 @@ FrictionRates friction_rates(System &sys,
   }
 #ifdef MARBLE
   auto const &col = sys.colloids();
-  for (int c = 0; c < nt; ++c) {
+  // the marble coupling: explicit under velocity Verlet; under Shardlow it is
+  // part of the exact pair update (marble/Colloids.cpp) and sets no limit
+  for (int c = 0; include_pair_dpd && c < nt; ++c) {
     if (!col.is_colloid_type(c) || st.count[c] == 0.)
       continue;
     double trans = 0., rot = 0.;

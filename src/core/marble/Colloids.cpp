@@ -81,7 +81,7 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
 // d = r_j - r_c(image).
 template <class Fn>
 void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable const &ia,
-                                   NoiseContext const &noise, Fn &&fn) const {
+                                   NoiseContext const &noise, Fn &&fn, bool with_marble) const {
   constexpr unsigned cons_mask = pair_kernels_with_role<KernelRole::conservative>();
   constexpr unsigned diss_mask = pair_kernels_with_role<KernelRole::pair_dissipative>();
   for (auto const &pr : m_pairs) {
@@ -106,7 +106,7 @@ void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable con
     Vector3d const f_cons = pair_force<cons_mask>(p, d, r, vij, xi, mfac);
     Vector3d const f_diss = noise.on ? pair_force<diss_mask>(p, d, r, vij, xi, mfac) : Vector3d{};
     MarbleForce mf;
-    if (m.active && noise.on) {
+    if (with_marble && m.active && noise.on) {
       Vector3d const xim = Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
                                                 static_cast<std::uint64_t>(ps.id[c]),
                                                 static_cast<std::uint64_t>(ps.id[j]));
@@ -117,20 +117,94 @@ void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable con
 }
 
 void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
-                          bool with_conservative) const {
-  for_each_pair_force(ps, ia, noise,
-                      [&](int c, int j, Vector3d const &, Vector3d const &f_cons, Vector3d const &f_diss,
-                          MarbleForce const &mf) {
-                        // without the conservative part: RESPA's slow forces
-                        Vector3d f = with_conservative ? f_cons : Vector3d{};
-                        f += f_diss;
-                        f += mf.on_bead;
-                        ps.f[j] += f;
-                        ps.f[c] -= f;
+                          bool with_conservative, bool with_marble) const {
+  for_each_pair_force(
+      ps, ia, noise,
+      [&](int c, int j, Vector3d const &, Vector3d const &f_cons, Vector3d const &f_diss, MarbleForce const &mf) {
+        // without the conservative part: RESPA's slow forces
+        Vector3d f = with_conservative ? f_cons : Vector3d{};
+        f += f_diss;
+        f += mf.on_bead;
+        ps.f[j] += f;
+        ps.f[c] -= f;
 #ifdef ROTATION
-                        ps.torque[c] += mf.torque_colloid;
+        ps.torque[c] += mf.torque_colloid;
 #endif
-                      });
+      },
+      with_marble);
+}
+
+// The marble coupling's exact pair update (Shardlow; doc/marble.md, "Under
+// Shardlow"). Bead j (mass m), colloid c (mass M, inertia I, spin omega),
+// contact point A = r_c + R n: an impulse J on j (-J on c at A, torque
+// (R n) x (-J)) changes u = v_j - (v_c + omega x R n) by J (1/m + 1/M) along n
+// and by J (1/m + 1/M + R^2/I) across n. The coupling's friction -gamma w^2 u
+// acts on each part as an Ornstein-Uhlenbeck process with the rate
+// gamma w^2 / mu (mu: the part's reduced mass), stepped exactly:
+//   u' = a u + sqrt(kT/mu (1 - a^2)) sqrt(12) xi,  a = exp(-gamma w^2 dt / mu),
+// with the coupling's own noise xi (uniform, variance 1/12 per component, the
+// explicit force's counter-based draw), so the stationary variance is kT/mu at
+// any dt. "dpd" keeps the normal part, "transverse" the tangential one,
+// "tunable_slip" both. A fixed colloid acts as infinitely heavy.
+void Colloids::shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
+                                     double kT, double dt) const {
+  for (auto const &pr : m_pairs) {
+    int const c = pr.colloid, j = pr.other;
+    MarbleParams const &m = ia.get(ps.type[c], ps.type[j]).get<MarbleSurface>();
+    if (!m.active || !(m.gamma > 0.))
+      continue;
+    Vector3d const d = ps.pos[j] - (ps.pos[c] + pr.shift);
+    double const r2 = d.norm2();
+    double const range = MarbleSurface::range(m);
+    if (!(r2 < range * range))
+      continue;
+    double const r = std::sqrt(r2);
+    if (!(r > 0.))
+      continue;
+    double const w = m.weight(r - m.radius);
+    if (w <= 0.)
+      continue;
+    Vector3d const n = d / r;
+    Vector3d const rA = m.radius * n;
+    bool const c_fixed = ps.has_fixed(c);
+    double const inv_m = 1. / ps.get_mass(j);
+    double const inv_M = c_fixed ? 0. : 1. / ps.get_mass(c);
+    double inv_I = 0.;
+    Vector3d omega{};
+#ifdef ROTATION
+    if (ps.rotation[c] && !c_fixed)
+      inv_I = 1. / ps.rinertia[c];
+    omega = ps.omega[c];
+#endif
+    Vector3d const xi = kT > 0. ? Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
+                                                       static_cast<std::uint64_t>(ps.id[c]),
+                                                       static_cast<std::uint64_t>(ps.id[j]))
+                                : Vector3d{};
+    Vector3d const u = ps.v[j] - (ps.v[c] + Utils::cross(omega, rA));
+    double const g = m.gamma * w * w * dt;
+    Vector3d J{};
+    if (m.coupling != MarbleCoupling::transverse) { // along n
+      double const inv_mu = inv_m + inv_M;
+      double const a = std::exp(-g * inv_mu);
+      double const du = (a - 1.) * (n * u) + std::sqrt(12. * kT * inv_mu * (1. - a * a)) * (n * xi);
+      J += (du / inv_mu) * n;
+    }
+    if (m.coupling != MarbleCoupling::dpd) { // across n
+      double const inv_mu = inv_m + inv_M + m.radius * m.radius * inv_I;
+      double const a = std::exp(-g * inv_mu);
+      Vector3d const ut = u - (n * u) * n;
+      Vector3d const xt = xi - (n * xi) * n;
+      Vector3d const du = (a - 1.) * ut + std::sqrt(12. * kT * inv_mu * (1. - a * a)) * xt;
+      J += du / inv_mu;
+    }
+    ps.v[j] += inv_m * J;
+    if (!c_fixed)
+      ps.v[c] -= inv_M * J;
+#ifdef ROTATION
+    if (inv_I > 0.)
+      ps.omega[c] += inv_I * Utils::cross(rA, -J);
+#endif
+  }
 }
 
 void Colloids::add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,

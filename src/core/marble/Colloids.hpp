@@ -34,9 +34,15 @@ public:
   /** Rebuild the colloid pair list; call right after the cell system's rebuild. */
   void rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
                InteractionTable const &ia);
-  /** Add all colloid pair forces and torques to locals. */
+  /** Add all colloid pair forces and torques to locals (@p with_marble false:
+   * without the marble coupling, which the Shardlow sweep then updates). */
   void add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
-                  bool with_conservative = true) const;
+                  bool with_conservative = true, bool with_marble = true) const;
+  /** Shardlow: the exact pair update of the marble coupling's friction and
+   * noise over @p dt, pair by pair in list order (one MPI rank: colloids and
+   * partners are locals). Velocities and spins change; nothing else. */
+  void shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
+                             double kT, double dt) const;
   /** RESPA's fast forces: only the conservative pair kernels of the colloid
    * pairs, added to @p f (indexed like ps, at least ps.size() long). */
   void add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,
@@ -57,7 +63,7 @@ public:
 private:
   template <class Fn>
   void for_each_pair_force(ParticleStore const &ps, InteractionTable const &ia, NoiseContext const &noise,
-                           Fn &&fn) const;
+                           Fn &&fn, bool with_marble = true) const;
   struct Pair {
     int colloid, other;
     Utils::Vector3d shift; // image of the colloid: pos[colloid] + shift

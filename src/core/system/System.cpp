@@ -122,8 +122,10 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 #endif
 #ifdef MARBLE
   if (m_colloids.any()) {
-    // RESPA's slow forces leave the colloid pairs' conservative kernels out
-    m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat), !m_exclude_fast);
+    // RESPA's slow forces leave the colloid pairs' conservative kernels out;
+    // under Shardlow its sweep updates the marble coupling (integrators/shardlow.cpp)
+    m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat), !m_exclude_fast,
+                          /*with_marble=*/m_dpd_in_pair_loop || !m_thermo.dpd.active);
   }
 #endif
   if (!m_constraints.empty())
