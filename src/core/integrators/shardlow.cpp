@@ -413,7 +413,7 @@ void shardlow_sweep(System &sys) {
   // then the marble colloids' surface coupling, pair by pair in the colloid
   // list's order: its own exact update (marble/Colloids.cpp), so a large
   // gamma dt does not bias it (the explicit coupling at nu = gamma dt / m = 0.6
-  // gave a 5 % larger D, doc/speed-accuracy.md)
+  // gave a 3 % larger D, doc/speed-accuracy.md)
   if (sys.colloids().any())
     sys.colloids().shardlow_marble_sweep(ps, ia, noise, kT, dt);
 #endif
