@@ -45,7 +45,15 @@ def mean_err(x):
     return float(x.mean()), float(x.std(ddof=1) / np.sqrt(len(x))) if len(x) > 1 else float("nan")
 
 
-RUN_SETTINGS = ("R", "L", "dt", "integrator", "t_equilibrium", "t_drag", "force", "kT", "equilibrium")
+RUN_SETTINGS = ("R", "L", "dt", "integrator", "t_equilibrium", "t_drag", "force", "kT", "equilibrium",
+                "marble_coupling")
+
+
+def marble_coupling(integrator):
+    """How the engine integrates the marble coupling: Shardlow updates it in its
+    sweep since session 13 (doc/marble.md); earlier pieces (no such key) ran it
+    as an explicit force, and --resume must not mix the two."""
+    return "shardlow_sweep" if integrator == "shardlow" else "explicit"
 
 
 def summarise(runs, gammas):
@@ -80,10 +88,13 @@ def resume_runs(jpath, data):
     with open(jpath) as f:
         old = json.load(f)
     for k in RUN_SETTINGS:
-        a, b = old.get(k, "vv" if k == "integrator" else None), data[k]
+        default = {"integrator": "vv", "marble_coupling": "explicit"}.get(k)
+        a, b = old.get(k, default), data[k]
         same = (a == b) if not isinstance(b, float) else (a is not None and abs(a - b) <= 1e-12 * abs(b))
         if not same:
-            raise ValueError(f"--resume: {jpath} was made with {k} = {a!r}, this run has {b!r}; "
+            why = (" (files without the key are from before session 13, which integrated the marble "
+                   "coupling explicitly under Shardlow too)" if k == "marble_coupling" and k not in old else "")
+            raise ValueError(f"--resume: {jpath} was made with {k} = {a!r}, this run has {b!r}{why}; "
                              f"use another --out or the same settings")
     return [r for r in old.get("runs", []) if r["gamma"] in data["gammas"] and r["seed"] in data["seeds"]]
 
@@ -124,7 +135,8 @@ def main():
           f"drag {t_drag} tau (F = {F:.2f}), {integrator} dt = {dt}; Hasimoto stick {D_stick:.5f}, "
           f"slip {D_slip:.5f}", flush=True)
     data = dict(sample="marble_diffusion_vs_gamma", R=R, L=L, eta=eta, kT=KT, dt=dt,
-                integrator=integrator, equilibrium=not args.no_equilibrium,
+                integrator=integrator, marble_coupling=marble_coupling(integrator),
+                equilibrium=not args.no_equilibrium,
                 t_equilibrium=t_eq, t_drag=t_drag, force=F, seeds=seeds, gammas=gammas,
                 D_hasimoto_stick=D_stick, D_hasimoto_slip=D_slip, runs=[], summary=[])
     if args.resume:

@@ -105,3 +105,13 @@ def test_pieces_equal_one_run():
         assert p.returncode != 0
         assert "was made with dt = 0.04, this run has 0.02" in p.stderr
         assert open(os.path.join(piece, "marble_diffusion_vs_gamma.json")).read() == before
+        # a piece from before the marble coupling moved into the Shardlow sweep (no key): refused
+        assert data["marble_coupling"] == "shardlow_sweep"
+        old = dict(data)
+        del old["marble_coupling"]
+        with open(os.path.join(piece, "marble_diffusion_vs_gamma.json"), "w") as f:
+            json.dump(old, f)
+        p = _run(piece, "--resume")
+        assert p.returncode != 0
+        assert "marble_coupling = 'explicit', this run has 'shardlow_sweep'" in p.stderr
+        assert "before session 13" in p.stderr
