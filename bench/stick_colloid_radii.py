@@ -261,13 +261,14 @@ def table(args):
         sys.exit("no drive runs in --results")
     groups = {}
     for r in runs:
-        groups.setdefault((round(r["L"], 4), r["torque"], round(r["core_radius"], 6)) + setting(r), []).append(r)
+        groups.setdefault((round(r["L"], 4), r["torque"], round(r["core_radius"], 6)) + setting(r)
+                          + (r.get("dt", DT),), []).append(r)
     print(f"eta_0 = {eta} +/- {eta_err}; drag radius R_t = c a, c = {C_T} +/- {C_T_ERR} (section 7d)")
     print("| L | T | core a | seeds | time units | <omega> R | Re_rot | zeta_L (chi^2/dof) | zeta_0 | "
           "R_r | R_r/a | GK D_r / (kT/zeta_L) | <I dw^2>/3kT | CPU-s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     out = dict(part="table", eta0=eta, eta0_err=eta_err, groups=[])
-    for (L, T, a, g, sh), rs in sorted(groups.items(), key=lambda kv: _sort_key(kv[0])):
+    for (L, T, a, g, sh, dt), rs in sorted(groups.items(), key=lambda kv: _sort_key(kv[0])):
         z, ze, chi2, dof = weighted([r["zeta_L"] for r in rs], [r["zeta_L_err"] for r in rs])
         z0, z0e = theory.rotational_friction_unbounded(z, eta, L, zeta_err=ze)
         Rr, Rre = theory.rotational_radius(z0, eta, zeta_err=z0e, eta_err=0.0)
@@ -278,7 +279,7 @@ def table(args):
         seeds = ",".join(str(r["seed"]) for r in rs)
         tt = sum(r["time"] for r in rs)
         cpu = sum(r.get("cpu_s", 0.0) for r in rs)
-        print(f"| {L:.4f} | {T} | {a:.4f}{setting_label(g, sh)} | {seeds} | {tt:.0f} | {om * R:.4f} | {3 * om * R ** 2 / eta:.2f} | "
+        print(f"| {L:.4f} | {T} | {a:.4f}{setting_label(g, sh, dt)} | {seeds} | {tt:.0f} | {om * R:.4f} | {3 * om * R ** 2 / eta:.2f} | "
               f"{z:.4f} +/- {ze:.4f} ({chi2:.1f}/{dof}) | {z0:.4f} +/- {z0e:.4f} | {Rr:.4f} +/- {Rre:.4f} "
               f"(eta_0: {Rre_eta:.4f}) | {Rr / a:.4f} +/- {Rre / a:.4f} | {gk[0]:.3f} +/- {gk[1]:.3f} | "
               f"{ke[0]:.4f} +/- {ke[1]:.4f} | {cpu:.0f} |")
@@ -292,7 +293,7 @@ def table(args):
                   f"Hasimoto stick R_t = {Rt_m:.3f} +/- {Rt_me:.3f} (R_t/a {Rt_m / a:.3f}) |")
         else:
             Dm, Rt_m, Rt_me = (None, None, None, None), None, None
-        out["groups"].append(dict(L=L, torque=T, core_radius=a, trans_gamma=g, stick_shell=sh, n=len(rs), time=tt, zeta_L=z, zeta_L_err=ze,
+        out["groups"].append(dict(L=L, torque=T, core_radius=a, trans_gamma=g, stick_shell=sh, dt=dt, n=len(rs), time=tt, zeta_L=z, zeta_L_err=ze,
                                   D_msd=Dm[0], D_msd_err=Dm[1], R_t_msd=Rt_m, R_t_msd_err=Rt_me,
                                   chi2=chi2, dof=dof, zeta_0=z0, zeta_0_err=z0e, R_r=Rr, R_r_err=Rre,
                                   R_r_err_eta=Rre_eta, omega=om, gk_ratio=gk[0], gk_ratio_err=gk[1],
@@ -300,7 +301,7 @@ def table(args):
     # all calibrated groups together: zeta_0 (box-corrected) per group, weighted
     # other cores (e.g. --radius-calibration none: a = 1, the core of section 7d's drag runs)
     # (setup_suspension's default trans_gamma and shell only; other settings: the scan block at the end)
-    dflt = [g for g in out["groups"] if is_default(g["trans_gamma"], g["stick_shell"])]
+    dflt = [g for g in out["groups"] if is_default(g["trans_gamma"], g["stick_shell"]) and g["dt"] == DT]
     for a in sorted({g["core_radius"] for g in dflt}):
         if abs(a - R / C_T) < 1e-4:
             continue
@@ -341,7 +342,7 @@ def table(args):
         # J. Fluid Mech. 11, 447 (1961), which turns its x-y velocity: D_xy falls by
         # 1/(1 + (rho a^2 Omega/(6 eta))^2), 1.6 % at T = 0.85, 6 % at T = 1.7)
         dm = [r for r in runs if "D_msd" in r and abs(r["core_radius"] - a) < 1e-6 and abs(r["L"] - L_CORE1) < 1e-3
-              and r["torque"] <= 0.85 and is_default(*setting(r))]
+              and r["torque"] <= 0.85 and is_default(*setting(r)) and r.get("dt", DT) == DT]
         if len(dm) >= 2:
             Dm, Dme, chi2m, dofm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
             # the MSD is the colloid's lab (= centre-of-mass) frame displacement; Hasimoto's D(L), like the
@@ -407,11 +408,10 @@ def is_default(g, sh):
     return g == DEFAULT_TRANS_GAMMA and sh is None
 
 
-def setting_label(g, sh):
-    """'' for the defaults (the rows of section 7m unchanged), else ', trans_gamma G, shell S'."""
-    if is_default(g, sh):
-        return ""
-    return (f", trans_gamma {g:g}" if g != DEFAULT_TRANS_GAMMA else "") + (f", shell {sh:g}" if sh is not None else "")
+def setting_label(g, sh, dt=DT):
+    """'' for the defaults (the rows of section 7m unchanged), else ', trans_gamma G, shell S, dt D'."""
+    return ((f", trans_gamma {g:g}" if g != DEFAULT_TRANS_GAMMA else "")
+            + (f", shell {sh:g}" if sh is not None else "") + (f", dt {dt:g}" if dt != DT else ""))
 
 
 def _sort_key(k):
@@ -436,9 +436,11 @@ def _combine(vals):
 
 def settings_scan(runs, drags, groups, eta, eta_err):
     """Per (core a, trans_gamma, stick_shell): R_r/a from the driven rotation (zeta_0 of the
-    (L, T) groups, weighted), R_t/a from the drag runs (Hasimoto's stick D(L)) and from the drive
+    (L, T) groups at dt = 0.01, weighted), R_t/a from the drag runs (Hasimoto's stick D(L)) and from the drive
     runs' equilibrium MSD (L = 4.3756, T <= 0.85, x (1 + M/M_s)^2), and R_r/R_t with eta_0
     varied jointly. Printed only when there are drag runs or non-default settings."""
+    groups = [x for x in groups if x["dt"] == DT]  # other time steps: their own rows above only
+    runs = [r for r in runs if r.get("dt", DT) == DT]
     keys = {(g["core_radius"], g["trans_gamma"], g["stick_shell"]) for g in groups}
     keys |= {(round(r["core_radius"], 6),) + setting(r, "stick_gamma") for r in drags}
     if not drags and all(is_default(g, sh) for _, g, sh in keys):
