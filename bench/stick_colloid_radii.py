@@ -436,20 +436,23 @@ def _combine(vals):
 
 def settings_scan(runs, drags, groups, eta, eta_err):
     """Per (core a, trans_gamma, stick_shell): R_r/a from the driven rotation (zeta_0 of the
-    (L, T) groups at dt = 0.01, weighted), R_t/a from the drag runs (Hasimoto's stick D(L)) and from the drive
-    runs' equilibrium MSD (L = 4.3756, T <= 0.85, x (1 + M/M_s)^2), and R_r/R_t with eta_0
-    varied jointly. Printed only when there are drag runs or non-default settings."""
-    groups = [x for x in groups if x["dt"] == DT]  # other time steps: their own rows above only
-    runs = [r for r in runs if r.get("dt", DT) == DT]
+    (L, T) groups at dt = 0.01 and T <= 0.85, weighted), R_t/a from the drag runs (Hasimoto's stick
+    D(L)) and, as a check, from the drive runs' equilibrium MSD (L = 4.3756, T <= 0.85, x (1 +
+    M/M_s)^2; a few % per setting, and the spin's lift lowers it by ~1-2 %), and R_r/R_t with
+    the drag's R_t (the MSD's where a setting has no drag run) and eta_0 varied jointly.
+    Printed only when there are drag runs or non-default settings."""
+    # other time steps and larger torques: their own rows above only
+    groups = [x for x in groups if x["dt"] == DT and x["torque"] <= 0.85]
+    runs = [r for r in runs if r.get("dt", DT) == DT and r["torque"] <= 0.85]
     keys = {(g["core_radius"], g["trans_gamma"], g["stick_shell"]) for g in groups}
     keys |= {(round(r["core_radius"], 6),) + setting(r, "stick_gamma") for r in drags}
     if not drags and all(is_default(g, sh) for _, g, sh in keys):
         return []
-    print("\nsettings (R_r by the torque, R_t by the drag and the equilibrium MSD; eta_0 = "
-          f"{eta} +/- {eta_err}, its part of R_r/R_t included):")
+    print("\nsettings (dt = 0.01, T <= 0.85; R_r by the torque, R_t by the drag (by the equilibrium MSD "
+          f"without drag runs); eta_0 = {eta} +/- {eta_err}, its part of R_r/R_t included):")
     print("| core a | trans_gamma | shell (used) | drive: runs, time units | R_r/a | drag: runs (F), time units | "
-          "R_t/a drag | R_t/a MSD | R_t/a both | R_r/R_t | CPU-s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "R_t/a drag | R_t/a MSD (check) | R_r/R_t | CPU-s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     res = []
     for a, g, sh in sorted(keys, key=_sort_key):
         gs = [x for x in groups if (x["core_radius"], x["trans_gamma"], x["stick_shell"]) == (a, g, sh)]
@@ -469,7 +472,7 @@ def settings_scan(runs, drags, groups, eta, eta_err):
                 rr = (Rr / a, Rre / a)
             rt_d = _combine([tuple(x / a for x in theory.hydrodynamic_radius_from_D(
                 D, e, L, D_err=De, kT=KT)) for D, De, L in _drag_D(ds)])
-            dm = [r for r in rs if "D_msd" in r and abs(r["L"] - L_PHI05) < 1e-3 and r["torque"] <= 0.85]
+            dm = [r for r in rs if "D_msd" in r and abs(r["L"] - L_PHI05) < 1e-3]
             rt_m = (None, None)
             if dm:
                 Dm, Dme = _combine([(r["D_msd"], r["D_msd_err"]) for r in dm])
@@ -479,12 +482,12 @@ def settings_scan(runs, drags, groups, eta, eta_err):
             return rr, rt_d, rt_m
 
         (Rr, Rre), (Rtd, Rtde), (Rtm, Rtme) = radii(eta)
-        Rt, Rte = _combine([(Rtd, Rtde), (Rtm, Rtme)])
+        Rt, Rte = (Rtd, Rtde) if Rtd is not None else (Rtm, Rtme)
         q = qe = None
         if Rr is not None and Rt is not None:
             q = Rr / Rt
             (Rr2, _), rtd2, rtm2 = radii(eta + eta_err)
-            q_eta = abs(Rr2 / _combine([rtd2, rtm2])[0] - q)
+            q_eta = abs(Rr2 / (rtd2[0] if Rtd is not None else rtm2[0]) - q)
             qe = math.sqrt((q * Rre / Rr) ** 2 + (q * Rte / Rt) ** 2 + q_eta ** 2)
 
         def f(v, e, n=4):
@@ -493,7 +496,7 @@ def settings_scan(runs, drags, groups, eta, eta_err):
         cpu = sum(r.get("cpu_s", 0.0) for r in rs + ds)
         print(f"| {a:.4f} | {g:g} | {'default' if sh is None else f'{sh:g}'} ({shell_used:.4f}) | {len(rs)}, "
               f"{sum(r['time'] for r in rs):.0f} | {f(Rr, Rre)} | {len(ds)} ({forces or '-'}), "
-              f"{sum(r['time'] for r in ds):.0f} | {f(Rtd, Rtde)} | {f(Rtm, Rtme)} | {f(Rt, Rte)} | {f(q, qe)} | "
+              f"{sum(r['time'] for r in ds):.0f} | {f(Rtd, Rtde)} | {f(Rtm, Rtme)} | {f(q, qe)} | "
               f"{cpu:.0f} |")
         res.append(dict(core_radius=a, trans_gamma=g, stick_shell=sh, stick_shell_used=shell_used, n_drive=len(rs),
                         n_drag=len(ds), R_r_over_a=Rr, R_r_over_a_err=Rre, R_t_drag_over_a=Rtd,
