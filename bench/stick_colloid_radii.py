@@ -28,12 +28,24 @@ phi = 0.05).
   motion relative to the solvent (x (1 + M/M_s)^2, zero total momentum) for a
   second, force-free R_t, and gives Krieger-Dougherty at phi and at phi (R_r/R)^3
   against the measured uniform-shear eta_r.
+- The stick colloid's settings (section 7n): ``--trans-gamma`` and ``--stick-shell``
+  (drive; default None = setup_suspension's 45 and r'_c(a)) are passed to
+  setup_suspension and recorded; ``table`` groups by them too (runs without the keys
+  are the defaults, whose rows and combined blocks stay those of section 7m) and,
+  when ``--results`` holds stick drag runs (bench/suspension_hasimoto.py --part drag
+  --boundary stick --solvent-count exact [--stick-gamma G] [--stick-shell S]) or
+  other settings, adds one row per (core a, trans_gamma, shell): R_r/a (torque),
+  R_t/a (drag; MSD) and R_r/R_t.
 
     build/pymarble bench/stick_colloid_radii.py --part drive --torque 0.85 --time 10000 --seed 1 \\
         --json bench/results/stick_colloid_radii.jsonl
     build/pymarble bench/stick_colloid_radii.py --part drive --L 6 --torque 0.85 --time 10000 --seed 1 \\
         --json bench/results/stick_colloid_radii.jsonl
     build/pymarble bench/stick_colloid_radii.py --part table --results bench/results/stick_colloid_radii.jsonl
+    build/pymarble bench/stick_colloid_radii.py --part drive --radius-calibration none --trans-gamma 15 \
+        --time 10000 --seed 1 --json bench/results/stick_colloid_radii_scan.jsonl
+    build/pymarble bench/stick_colloid_radii.py --part table --results bench/results/stick_colloid_radii_scan.jsonl \
+        bench/results/stick_colloid_radii_drag.jsonl
 
 Runs append one JSON line each (``--json``); ``table`` reads them back.
 """
@@ -79,6 +91,10 @@ def parse(argv=None):
     p.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default="exact")
     p.add_argument("--radius-calibration", default="stick",
                    help="setup_suspension's radius_calibration ('stick', 'none' or a number)")
+    p.add_argument("--trans-gamma", type=float, default=None,
+                   help="drive: the surface_friction's gamma (default None: setup_suspension's 45)")
+    p.add_argument("--stick-shell", type=float, default=None,
+                   help="drive: the friction shell's thickness on the gap (default None: setup_suspension's r'_c(a))")
     p.add_argument("--json", help="append the result (one JSON line) to this file")
     p.add_argument("--results", nargs="+", help="table: JSON-lines files of drive runs")
     p.add_argument("--eta0", type=float, nargs=2, default=[ETA0, ETA0_ERR], help="table: eta_0 and its error")
@@ -94,6 +110,10 @@ def parse(argv=None):
             p.error("--torque must be finite")
         if args.every < 1:
             p.error("--every must be >= 1")
+        for name in ("trans_gamma", "stick_shell"):
+            v = getattr(args, name)
+            if v is not None and not (math.isfinite(v) and v > 0):
+                p.error(f"--{name.replace('_', '-')} must be > 0, got {v}")
     elif not args.results:
         p.error("--part table needs --results")
     return args
@@ -107,9 +127,10 @@ def colloid_box(args):
     rc = args.radius_calibration
     rc = rc if rc in ("none", "stick") else float(rc)
     phi = 4.0 * math.pi * R ** 3 / (3.0 * args.L ** 3)
+    kw = {k: v for k, v in (("trans_gamma", args.trans_gamma), ("stick_shell", args.stick_shell)) if v is not None}
     info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
                                 positions=[[args.L / 2] * 3], boundary="stick",
-                                solvent_count=args.solvent_count, radius_calibration=rc)
+                                solvent_count=args.solvent_count, radius_calibration=rc, **kw)
     s.integrator.set_shardlow()
     p = s.part.all()
     v, m = np.asarray(p.v), np.asarray(p.mass)
@@ -193,7 +214,8 @@ def drive(args):
                settle=args.settle, every=args.every, n_solvent=info["n_solvent"], rho_free=rho,
                core_radius=info["core_radius"], radius_ratio=info["radius_ratio"], rinertia=I_rot,
                solvent_count=args.solvent_count, radius_calibration=info["radius_calibration"],
-               trans_gamma=info.get("trans_gamma"),
+               trans_gamma=info.get("trans_gamma"), stick_shell=args.stick_shell,
+               stick_shell_used=info.get("stick_shell"),
                omega=[float(x) for x in w.mean(axis=0)], omega_z=omega, omega_err=err,
                omega_err_blocking=float(blk.error), omega_err_diffusion=err_diff,
                blocking_converged=bool(blk.converged), zeta_L=zeta_L, zeta_L_err=zeta_err,
@@ -230,22 +252,23 @@ def weighted(x, e):
 
 def table(args):
     eta, eta_err = args.eta0
-    runs = []
+    lines = []
     for fn in args.results:
         with open(fn) as f:
-            runs += [json.loads(line) for line in f if line.strip()]
-    runs = [r for r in runs if r.get("part") == "drive"]
+            lines += [json.loads(line) for line in f if line.strip()]
+    runs = [r for r in lines if r.get("part") == "drive"]
     if not runs:
         sys.exit("no drive runs in --results")
     groups = {}
     for r in runs:
-        groups.setdefault((round(r["L"], 4), r["torque"], round(r["core_radius"], 6)), []).append(r)
+        groups.setdefault((round(r["L"], 4), r["torque"], round(r["core_radius"], 6)) + setting(r)
+                          + (r.get("dt", DT),), []).append(r)
     print(f"eta_0 = {eta} +/- {eta_err}; drag radius R_t = c a, c = {C_T} +/- {C_T_ERR} (section 7d)")
     print("| L | T | core a | seeds | time units | <omega> R | Re_rot | zeta_L (chi^2/dof) | zeta_0 | "
           "R_r | R_r/a | GK D_r / (kT/zeta_L) | <I dw^2>/3kT | CPU-s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     out = dict(part="table", eta0=eta, eta0_err=eta_err, groups=[])
-    for (L, T, a), rs in sorted(groups.items()):
+    for (L, T, a, g, sh, dt), rs in sorted(groups.items(), key=lambda kv: _sort_key(kv[0])):
         z, ze, chi2, dof = weighted([r["zeta_L"] for r in rs], [r["zeta_L_err"] for r in rs])
         z0, z0e = theory.rotational_friction_unbounded(z, eta, L, zeta_err=ze)
         Rr, Rre = theory.rotational_radius(z0, eta, zeta_err=z0e, eta_err=0.0)
@@ -256,7 +279,7 @@ def table(args):
         seeds = ",".join(str(r["seed"]) for r in rs)
         tt = sum(r["time"] for r in rs)
         cpu = sum(r.get("cpu_s", 0.0) for r in rs)
-        print(f"| {L:.4f} | {T} | {a:.4f} | {seeds} | {tt:.0f} | {om * R:.4f} | {3 * om * R ** 2 / eta:.2f} | "
+        print(f"| {L:.4f} | {T} | {a:.4f}{setting_label(g, sh, dt)} | {seeds} | {tt:.0f} | {om * R:.4f} | {3 * om * R ** 2 / eta:.2f} | "
               f"{z:.4f} +/- {ze:.4f} ({chi2:.1f}/{dof}) | {z0:.4f} +/- {z0e:.4f} | {Rr:.4f} +/- {Rre:.4f} "
               f"(eta_0: {Rre_eta:.4f}) | {Rr / a:.4f} +/- {Rre / a:.4f} | {gk[0]:.3f} +/- {gk[1]:.3f} | "
               f"{ke[0]:.4f} +/- {ke[1]:.4f} | {cpu:.0f} |")
@@ -270,17 +293,19 @@ def table(args):
                   f"Hasimoto stick R_t = {Rt_m:.3f} +/- {Rt_me:.3f} (R_t/a {Rt_m / a:.3f}) |")
         else:
             Dm, Rt_m, Rt_me = (None, None, None, None), None, None
-        out["groups"].append(dict(L=L, torque=T, core_radius=a, n=len(rs), time=tt, zeta_L=z, zeta_L_err=ze,
+        out["groups"].append(dict(L=L, torque=T, core_radius=a, trans_gamma=g, stick_shell=sh, dt=dt, n=len(rs), time=tt, zeta_L=z, zeta_L_err=ze,
                                   D_msd=Dm[0], D_msd_err=Dm[1], R_t_msd=Rt_m, R_t_msd_err=Rt_me,
                                   chi2=chi2, dof=dof, zeta_0=z0, zeta_0_err=z0e, R_r=Rr, R_r_err=Rre,
                                   R_r_err_eta=Rre_eta, omega=om, gk_ratio=gk[0], gk_ratio_err=gk[1],
                                   kT_rot=ke[0], kT_rot_err=ke[1], cpu_s=cpu))
     # all calibrated groups together: zeta_0 (box-corrected) per group, weighted
     # other cores (e.g. --radius-calibration none: a = 1, the core of section 7d's drag runs)
-    for a in sorted({g["core_radius"] for g in out["groups"]}):
+    # (setup_suspension's default trans_gamma and shell only; other settings: the scan block at the end)
+    dflt = [g for g in out["groups"] if is_default(g["trans_gamma"], g["stick_shell"]) and g["dt"] == DT]
+    for a in sorted({g["core_radius"] for g in dflt}):
         if abs(a - R / C_T) < 1e-4:
             continue
-        gs = [g for g in out["groups"] if g["core_radius"] == a]
+        gs = [g for g in dflt if g["core_radius"] == a]
         z0, z0e, chi2, dof = weighted([g["zeta_0"] for g in gs], [g["zeta_0_err"] for g in gs])
         Rr, Rre = theory.rotational_radius(z0, eta, zeta_err=z0e)
         Rt_a = theory.hydrodynamic_radius_from_D(D_CORE1, eta, L_CORE1, kT=KT)[0]
@@ -288,7 +313,7 @@ def table(args):
               f"(zeta; eta_0 cancels in the ratio); R_r/R_t = {Rr / a / Rt_a:.4f} with section 7d's a = 1 drag")
         out.setdefault("other_cores", []).append(dict(core_radius=a, zeta_0=z0, zeta_0_err=z0e,
                                                       R_r_over_a=Rr / a, R_r_over_a_err=Rre / a))
-    cal = [g for g in out["groups"] if abs(g["core_radius"] - R / C_T) < 1e-4]
+    cal = [g for g in dflt if abs(g["core_radius"] - R / C_T) < 1e-4]
     if cal:
         z0, z0e, chi2, dof = weighted([g["zeta_0"] for g in cal], [g["zeta_0_err"] for g in cal])
         a = cal[0]["core_radius"]
@@ -317,7 +342,7 @@ def table(args):
         # J. Fluid Mech. 11, 447 (1961), which turns its x-y velocity: D_xy falls by
         # 1/(1 + (rho a^2 Omega/(6 eta))^2), 1.6 % at T = 0.85, 6 % at T = 1.7)
         dm = [r for r in runs if "D_msd" in r and abs(r["core_radius"] - a) < 1e-6 and abs(r["L"] - L_CORE1) < 1e-3
-              and r["torque"] <= 0.85]
+              and r["torque"] <= 0.85 and is_default(*setting(r)) and r.get("dt", DT) == DT]
         if len(dm) >= 2:
             Dm, Dme, chi2m, dofm = weighted([r["D_msd"] for r in dm], [r["D_msd_err"] for r in dm])
             # the MSD is the colloid's lab (= centre-of-mass) frame displacement; Hasimoto's D(L), like the
@@ -360,6 +385,133 @@ def table(args):
             print(f"| {phi} | {meas} | {kd_t:.3f} | {pe:.4f} | {kd_r:.3f} +/- {kd_r_err:.3f} |")
             out["predictions"].append(dict(phi=phi, measured=meas, kd_R=kd_t, phi_eff=pe, kd_Rr=kd_r,
                                            kd_Rr_err=kd_r_err))
+    scan = settings_scan(runs, drag_runs(lines), out["groups"], eta, eta_err)
+    if scan:
+        out["settings"] = scan
+    return out
+
+
+# --- the stick colloid's settings (trans_gamma, stick_shell): doc/suspensions.md section 7n ---
+DEFAULT_TRANS_GAMMA = 45.0  # setup_suspension's default surface_friction gamma
+
+
+def setting(r, gamma_key="trans_gamma"):
+    """(trans_gamma, stick_shell) of a run; a run without the keys (or with None) has
+    setup_suspension's defaults (45, None = the shell r'_c(a)). Drag runs of
+    bench/suspension_hasimoto.py keep the surface_friction's gamma under 'stick_gamma'."""
+    g = r.get(gamma_key)
+    sh = r.get("stick_shell")
+    return (DEFAULT_TRANS_GAMMA if g is None else float(g), None if sh is None else round(float(sh), 6))
+
+
+def is_default(g, sh):
+    return g == DEFAULT_TRANS_GAMMA and sh is None
+
+
+def setting_label(g, sh, dt=DT):
+    """'' for the defaults (the rows of section 7m unchanged), else ', trans_gamma G, shell S, dt D'."""
+    return ((f", trans_gamma {g:g}" if g != DEFAULT_TRANS_GAMMA else "")
+            + (f", shell {sh:g}" if sh is not None else "") + (f", dt {dt:g}" if dt != DT else ""))
+
+
+def _sort_key(k):
+    return tuple(-1.0 if x is None else x for x in k)
+
+
+def drag_runs(lines):
+    """The stick drag runs (bench/suspension_hasimoto.py --part drag --boundary stick, exact solvent
+    count, no extra TRANS_DPD) among the JSON lines."""
+    return [r for r in lines if r.get("part") == "drag" and r.get("boundary") == "stick" and not r.get("trans_gamma")
+            and r.get("solvent_count") == "exact" and "core_radius" in r]
+
+
+def _combine(vals):
+    """Weighted mean of (value, error) pairs (error scaled by sqrt(chi^2/dof) when above 1)."""
+    vals = [(v, e) for v, e in vals if v is not None and e is not None and e > 0]
+    if not vals:
+        return None, None
+    m, e, _, _ = weighted([v for v, _ in vals], [e for _, e in vals])
+    return m, e
+
+
+def settings_scan(runs, drags, groups, eta, eta_err):
+    """Per (core a, trans_gamma, stick_shell): R_r/a from the driven rotation (zeta_0 of the
+    (L, T) groups at dt = 0.01 and T <= 0.85, weighted), R_t/a from the drag runs (Hasimoto's stick
+    D(L)) and, as a check, from the drive runs' equilibrium MSD (L = 4.3756, T <= 0.85, x (1 +
+    M/M_s)^2; a few % per setting, and the spin's lift lowers it by ~1-2 %), and R_r/R_t with
+    the drag's R_t (the MSD's where a setting has no drag run) and eta_0 varied jointly.
+    Printed only when there are drag runs or non-default settings."""
+    # other time steps and larger torques: their own rows above only
+    groups = [x for x in groups if x["dt"] == DT and x["torque"] <= 0.85]
+    runs = [r for r in runs if r.get("dt", DT) == DT and r["torque"] <= 0.85]
+    keys = {(g["core_radius"], g["trans_gamma"], g["stick_shell"]) for g in groups}
+    keys |= {(round(r["core_radius"], 6),) + setting(r, "stick_gamma") for r in drags}
+    if not drags and all(is_default(g, sh) for _, g, sh in keys):
+        return []
+    print("\nsettings (dt = 0.01, T <= 0.85; R_r by the torque, R_t by the drag (by the equilibrium MSD "
+          f"without drag runs); eta_0 = {eta} +/- {eta_err}, its part of R_r/R_t included):")
+    print("| core a | trans_gamma | shell (used) | drive: runs, time units | R_r/a | drag: runs (F), time units | "
+          "R_t/a drag | R_t/a MSD (check) | R_r/R_t | CPU-s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    res = []
+    for a, g, sh in sorted(keys, key=_sort_key):
+        gs = [x for x in groups if (x["core_radius"], x["trans_gamma"], x["stick_shell"]) == (a, g, sh)]
+        rs = [r for r in runs if (round(r["core_radius"], 6),) + setting(r) == (a, g, sh)]
+        ds = [r for r in drags if (round(r["core_radius"], 6),) + setting(r, "stick_gamma") == (a, g, sh)]
+        used = [r.get("stick_shell_used") for r in rs + ds if r.get("stick_shell_used") is not None]
+        shell_used = used[0] if used else (sus.surface_cutoff(a) if sh is None else sh)
+
+        def radii(e):
+            """(R_r/a, its zeta error), (R_t/a drag, err), (R_t/a MSD, err) at eta_0 = e."""
+            rr = (None, None)
+            if gs:
+                z0s = [theory.rotational_friction_unbounded(x["zeta_L"], e, x["L"], zeta_err=x["zeta_L_err"])
+                       for x in gs]
+                z0, z0e = _combine(z0s)
+                Rr, Rre = theory.rotational_radius(z0, e, zeta_err=z0e, eta_err=0.0)
+                rr = (Rr / a, Rre / a)
+            rt_d = _combine([tuple(x / a for x in theory.hydrodynamic_radius_from_D(
+                D, e, L, D_err=De, kT=KT)) for D, De, L in _drag_D(ds)])
+            dm = [r for r in rs if "D_msd" in r and abs(r["L"] - L_PHI05) < 1e-3]
+            rt_m = (None, None)
+            if dm:
+                Dm, Dme = _combine([(r["D_msd"], r["D_msd_err"]) for r in dm])
+                fac = (1.0 + 4.0 * math.pi * a ** 3 / dm[0]["n_solvent"]) ** 2
+                Rt, Rte = theory.hydrodynamic_radius_from_D(Dm * fac, e, dm[0]["L"], D_err=Dme * fac, kT=KT)
+                rt_m = (Rt / a, Rte / a)
+            return rr, rt_d, rt_m
+
+        (Rr, Rre), (Rtd, Rtde), (Rtm, Rtme) = radii(eta)
+        Rt, Rte = (Rtd, Rtde) if Rtd is not None else (Rtm, Rtme)
+        q = qe = None
+        if Rr is not None and Rt is not None:
+            q = Rr / Rt
+            (Rr2, _), rtd2, rtm2 = radii(eta + eta_err)
+            q_eta = abs(Rr2 / (rtd2[0] if Rtd is not None else rtm2[0]) - q)
+            qe = math.sqrt((q * Rre / Rr) ** 2 + (q * Rte / Rt) ** 2 + q_eta ** 2)
+
+        def f(v, e, n=4):
+            return "-" if v is None else f"{v:.{n}f} +/- {e:.{n}f}"
+        forces = ",".join(sorted({f"{r['force']:g}" for r in ds}))
+        cpu = sum(r.get("cpu_s", 0.0) for r in rs + ds)
+        print(f"| {a:.4f} | {g:g} | {'default' if sh is None else f'{sh:g}'} ({shell_used:.4f}) | {len(rs)}, "
+              f"{sum(r['time'] for r in rs):.0f} | {f(Rr, Rre)} | {len(ds)} ({forces or '-'}), "
+              f"{sum(r['time'] for r in ds):.0f} | {f(Rtd, Rtde)} | {f(Rtm, Rtme)} | {f(q, qe)} | "
+              f"{cpu:.0f} |")
+        res.append(dict(core_radius=a, trans_gamma=g, stick_shell=sh, stick_shell_used=shell_used, n_drive=len(rs),
+                        n_drag=len(ds), R_r_over_a=Rr, R_r_over_a_err=Rre, R_t_drag_over_a=Rtd,
+                        R_t_drag_over_a_err=Rtde, R_t_msd_over_a=Rtm, R_t_msd_over_a_err=Rtme, R_t_over_a=Rt,
+                        R_t_over_a_err=Rte, ratio_r_t=q, ratio_r_t_err=qe, cpu_s=cpu))
+    return res
+
+
+def _drag_D(ds):
+    """(D, D_err, L) per box size of drag runs (weighted, error scaled by sqrt(chi^2/dof) when above 1)."""
+    out = []
+    for L in sorted({round(r["L"], 4) for r in ds}):
+        rl = [r for r in ds if round(r["L"], 4) == L]
+        D, De = _combine([(r["D"], r["D_err"]) for r in rl])
+        out.append((D, De, rl[0]["L"]))
     return out
 
 

@@ -51,6 +51,8 @@ parser.add_argument("--boundary", choices=["slip", "stick"], default="slip",
                     help="setup_suspension's boundary (stick: rotating colloids with the surface_friction kernel)")
 parser.add_argument("--stick-gamma", type=float, default=None,
                     help="stick: the surface_friction's gamma (default setup_suspension's 45)")
+parser.add_argument("--stick-shell", type=float, default=None,
+                    help="stick: the friction shell's thickness on the gap (default setup_suspension's r'_c(a))")
 parser.add_argument("--radius-calibration", default=None,
                     help="setup_suspension's radius_calibration: 'none' (the core radius is R = 1: how the "
                          "ratio STICK_RADIUS_RATIO was measured), 'stick' (stick's default: R = 1 is the "
@@ -70,6 +72,11 @@ parser.add_argument("--D", type=float, nargs=2, help="compare: D and its error")
 parser.add_argument("--json", help="append the result (a JSON line) to this file")
 parser.add_argument("--results", help="ratio: the JSON lines of drag runs to combine")
 args = parser.parse_args()
+if args.stick_shell is not None:
+    if not (math.isfinite(args.stick_shell) and args.stick_shell > 0):
+        parser.error(f"--stick-shell must be > 0, got {args.stick_shell}")
+    if args.boundary != "stick":
+        parser.error("--stick-shell needs --boundary stick")
 
 marble.assert_features("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "EXTERNAL_FORCE")
 R, KT, GAMMA, PHI = 1.0, 0.1, 4.5, 0.05
@@ -83,6 +90,8 @@ def colloid_box():
     kw = dict(boundary=args.boundary, solvent_count=args.solvent_count)
     if args.boundary == "stick" and args.stick_gamma is not None:
         kw["trans_gamma"] = args.stick_gamma
+    if args.stick_shell is not None:
+        kw["stick_shell"] = args.stick_shell
     if args.radius_calibration is not None:
         rc = args.radius_calibration
         kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
@@ -138,7 +147,8 @@ elif args.part == "drag":
                        delta_N=10, kT=KT)
     err = max(res.D_err, KT * math.sqrt(2 * max(res.D, 0) / args.time) / args.force)
     out.update(D=res.D, D_err=err, D_err_blocking=res.D_err, force=args.force, trans_gamma=args.trans_gamma,
-               boundary=args.boundary, stick_gamma=info.get("trans_gamma"),
+               boundary=args.boundary, stick_gamma=info.get("trans_gamma"), stick_shell=args.stick_shell,
+               stick_shell_used=info.get("stick_shell"),
                n_solvent=info["n_solvent"], core_radius=info["core_radius"],
                radius_calibration=info["radius_calibration"], solvent_count=args.solvent_count)
     print(f"L = {L:.4f}, {info['n_solvent']} beads: D = {res.D:.5f} +/- {err:.5f} "

@@ -4,6 +4,7 @@ Navier-slip sphere's translational, rotational and stresslet radii (limits beta 
 and inf, the first-order equality), the slip boundary condition of the flows behind
 them checked numerically on the sphere, the inverse (a, beta) from (R_t, R_r), the
 periodic box correction of the rotational friction, and bad input."""
+import json
 import math
 
 import numpy as np
@@ -158,3 +159,93 @@ def test_bad_input():
         theory.rotational_radius(8.0, 0.0)
     with pytest.raises(ValueError, match="eta_err"):
         theory.rotational_radius(8.0, ETA, eta_err=float("inf"))
+
+
+# --- bench/stick_colloid_radii.py's bookkeeping of the stick settings (section 7n) ---
+
+def _bench():
+    import importlib.util
+    import os
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench", "stick_colloid_radii.py")
+    spec = importlib.util.spec_from_file_location("stick_colloid_radii", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _drive(b, Rr, a, seed, L=None, torque=0.85, Dt=None, **setting):
+    """A synthetic drive run of a sphere with rotational radius Rr (and, if given, the
+    equilibrium MSD D of a stick sphere of radius Dt, in the lab frame) in the box L."""
+    L = b.L_PHI05 if L is None else L
+    z0 = 8 * math.pi * ETA * Rr ** 3
+    zL = 1.0 / (1.0 / z0 - 1.0 / (6 * ETA * L ** 3))  # inverse of the box correction
+    r = dict(part="drive", L=L, torque=torque, seed=seed, time=10000.0, core_radius=a, n_solvent=239,
+             zeta_L=zL, zeta_L_err=0.01 * zL, omega_z=torque / zL, D_r_gk=0.1 / zL, D_r_gk_err=0.01 / zL,
+             kT_rot=1.0, kT_rot_err=0.002, cpu_s=90.0)
+    if Dt is not None:
+        fac = (1.0 + 4.0 * math.pi * a ** 3 / 239) ** 2
+        r.update(D_msd=theory.hasimoto_D(ETA, Dt, L, kT=0.1) / fac, D_msd_err=1e-4)
+    r.update(setting)
+    return r
+
+
+def test_table_groups_by_setting(tmp_path):
+    """--part table groups the drive runs by (L, T, core, trans_gamma, stick_shell): runs without
+    the keys are setup_suspension's defaults (45, the shell r'_c) and group with runs that carry
+    them; another time step is its own group, left out of the combined blocks, and the scan
+    uses T <= 0.85 only; the 7m blocks (all calibrated groups) use the default setting only; the settings scan
+    gives each setting's R_r/a, R_t/a (drag and MSD) and R_r/R_t."""
+    b = _bench()
+    a_cal = 1.0 / b.C_T
+    L = b.L_PHI05
+    runs = [_drive(b, 1.05 * a_cal, a_cal, 1),                                    # 7m's lines: no keys
+            _drive(b, 1.05 * a_cal, a_cal, 2, trans_gamma=45.0, stick_shell=None),  # the defaults, spelt out
+            _drive(b, 1.10, 1.0, 1, Dt=1.02, trans_gamma=15.0, stick_shell=None),
+            _drive(b, 1.10, 1.0, 2, Dt=1.02, trans_gamma=15.0),
+            _drive(b, 1.20, 1.0, 1, Dt=1.10, trans_gamma=45.0, stick_shell=0.5),
+            _drive(b, 1.50, 1.0, 3, Dt=1.50, stick_shell=0.5, dt=0.005),  # another time step: its own row only
+            _drive(b, 1.40, 1.0, 4, Dt=1.40, stick_shell=0.5, torque=1.7)]  # T > 0.85: its own row only
+    drags = [dict(part="drag", boundary="stick", solvent_count="exact", trans_gamma=0.0, stick_gamma=15.0,
+                  stick_shell=None, core_radius=1.0, L=L, force=1.0, time=10000.0, seed=s, cpu_s=90.0,
+                  D=theory.hasimoto_D(ETA, 1.04, L, kT=0.1), D_err=1e-4) for s in (1, 2)]
+    drags.append(dict(part="drag", boundary="slip", solvent_count="exact", core_radius=1.0, L=L, force=1.0,
+                      time=1.0, D=1.0, D_err=0.1))  # not a stick run: ignored
+    fn = tmp_path / "runs.jsonl"
+    fn.write_text("".join(json.dumps(r) + "\n" for r in runs + drags))
+    out = b.table(b.parse(["--part", "table", "--results", str(fn), "--eta0", str(ETA), "0.003"]))
+    groups = {(g["core_radius"], g["trans_gamma"], g["stick_shell"], g["dt"], g["torque"]): g for g in out["groups"]}
+    assert {k: g["n"] for k, g in groups.items()} == {
+        (1.0, 15.0, None, 0.01, 0.85): 2, (1.0, 45.0, 0.5, 0.01, 0.85): 1, (1.0, 45.0, 0.5, 0.005, 0.85): 1,
+        (1.0, 45.0, 0.5, 0.01, 1.7): 1, (round(a_cal, 6), 45.0, None, 0.01, 0.85): 2}
+    # the calibrated (default) block sees only its own two runs
+    assert out["R_r_over_a"] == pytest.approx(1.05, rel=1e-5)  # the group keys round a to 1e-6 and L to 1e-4
+    for g in out["groups"]:
+        assert g["zeta_0"] == pytest.approx(8 * math.pi * ETA * (g["R_r"]) ** 3, rel=1e-12)
+    scan = {(x["core_radius"], x["trans_gamma"], x["stick_shell"]): x for x in out["settings"]}
+    s15 = scan[(1.0, 15.0, None)]
+    assert (s15["n_drive"], s15["n_drag"]) == (2, 2)
+    assert s15["R_r_over_a"] == pytest.approx(1.10, rel=1e-5)
+    assert s15["R_t_drag_over_a"] == pytest.approx(1.04, rel=1e-6)
+    assert s15["R_t_msd_over_a"] == pytest.approx(1.02, rel=1e-6)
+    assert s15["R_t_over_a"] == s15["R_t_drag_over_a"]  # the drag's R_t where there is one
+    assert s15["ratio_r_t"] == pytest.approx(s15["R_r_over_a"] / s15["R_t_over_a"], rel=1e-12)
+    assert s15["ratio_r_t_err"] > 0
+    s5 = scan[(1.0, 45.0, 0.5)]
+    assert (s5["n_drive"], s5["n_drag"], s5["stick_shell_used"]) == (1, 0, 0.5)
+    assert s5["R_t_drag_over_a"] is None
+    assert s5["ratio_r_t"] == pytest.approx(1.20 / 1.10, rel=1e-5)
+    # without drag runs and with the defaults only, no settings block (7m's output unchanged)
+    fn2 = tmp_path / "defaults.jsonl"
+    fn2.write_text("".join(json.dumps(r) + "\n" for r in runs[:2]))
+    assert "settings" not in b.table(b.parse(["--part", "table", "--results", str(fn2)]))
+
+
+@pytest.mark.parametrize("opt", ["--trans-gamma", "--stick-shell"])
+@pytest.mark.parametrize("val", ["0", "-0.1", "nan", "inf"])
+def test_drive_options_bad_input(opt, val, capsys):
+    b = _bench()
+    with pytest.raises(SystemExit):
+        b.parse(["--part", "drive", opt, val])
+    assert f"{opt} must be > 0" in capsys.readouterr().err
+    args = b.parse(["--part", "drive", opt, "0.3"])
+    assert getattr(args, opt[2:].replace("-", "_")) == 0.3
