@@ -33,6 +33,7 @@
 #include "forces/pair_traversal.hpp"
 #include "integrators/stability.hpp"
 #include "nonbonded/surface_friction_apply.hpp"
+#include "thermostats/ou_step.hpp"
 #ifdef MARBLE
 #include "marble/Colloids.hpp"
 #endif
@@ -59,16 +60,6 @@ namespace {
 }
 
 #ifdef DPD
-// Exact OU factor a and noise amplitude for a friction rate lambda = gamma M
-// w^2 / mu.
-struct OU {
-  double a, s;
-  OU(double lambda_dt, double kT_over_mu) {
-    a = std::exp(-lambda_dt);
-    s = std::sqrt(12. * kT_over_mu *
-                  (1. - a * a)); // sqrt(12): xi has variance 1/12
-  }
-};
 
 // Lees-Edwards (one rank): the velocity jump of list entry k. An image across
 // the shear plane (shift k_n L_n along the normal, CellSystem::make_le_ghosts)

@@ -4,6 +4,7 @@
 
 #include "forces/pair_force.hpp"
 #include "forces/pair_traversal.hpp"
+#include "thermostats/ou_step.hpp"
 #include "utils/noise.hpp"
 
 #include <algorithm>
@@ -12,6 +13,15 @@
 namespace Marble {
 
 using Utils::Vector3d;
+
+namespace {
+/** The marble coupling's noise of the pair (colloid c, bead j): the explicit
+ * force and the Shardlow update draw the same numbers. */
+Vector3d marble_noise(NoiseContext const &noise, ParticleStore const &ps, int c, int j) {
+  return Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter, static_cast<std::uint64_t>(ps.id[c]),
+                              static_cast<std::uint64_t>(ps.id[j]));
+}
+} // namespace
 
 void Colloids::set_types(std::vector<char> const &is_colloid) {
   m_is_colloid = is_colloid;
@@ -107,10 +117,7 @@ void Colloids::for_each_pair_force(ParticleStore const &ps, InteractionTable con
     Vector3d const f_diss = noise.on ? pair_force<diss_mask>(p, d, r, vij, xi, mfac) : Vector3d{};
     MarbleForce mf;
     if (with_marble && m.active && noise.on) {
-      Vector3d const xim = Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
-                                                static_cast<std::uint64_t>(ps.id[c]),
-                                                static_cast<std::uint64_t>(ps.id[j]));
-      mf = MarbleSurface::force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], xim);
+      mf = MarbleSurface::force(m, d, r, ps.v[j], ps.v[c], ps.omega[c], marble_noise(noise, ps, c, j));
     }
     fn(c, j, d, f_cons, f_diss, mf);
   }
@@ -176,25 +183,22 @@ void Colloids::shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &
       inv_I = 1. / ps.rinertia[c];
     omega = ps.omega[c];
 #endif
-    Vector3d const xi = kT > 0. ? Utils::noise_uniform(noise.seed, MarbleSurface::salt, noise.counter,
-                                                       static_cast<std::uint64_t>(ps.id[c]),
-                                                       static_cast<std::uint64_t>(ps.id[j]))
-                                : Vector3d{};
+    Vector3d const xi = kT > 0. ? marble_noise(noise, ps, c, j) : Vector3d{};
     Vector3d const u = ps.v[j] - (ps.v[c] + Utils::cross(omega, rA));
     double const g = m.gamma * w * w * dt;
     Vector3d J{};
     if (m.coupling != MarbleCoupling::transverse) { // along n
       double const inv_mu = inv_m + inv_M;
-      double const a = std::exp(-g * inv_mu);
-      double const du = (a - 1.) * (n * u) + std::sqrt(12. * kT * inv_mu * (1. - a * a)) * (n * xi);
+      OU const ou(g * inv_mu, kT * inv_mu);
+      double const du = (ou.a - 1.) * (n * u) + ou.s * (n * xi);
       J += (du / inv_mu) * n;
     }
     if (m.coupling != MarbleCoupling::dpd) { // across n
       double const inv_mu = inv_m + inv_M + m.radius * m.radius * inv_I;
-      double const a = std::exp(-g * inv_mu);
+      OU const ou(g * inv_mu, kT * inv_mu);
       Vector3d const ut = u - (n * u) * n;
       Vector3d const xt = xi - (n * xi) * n;
-      Vector3d const du = (a - 1.) * ut + std::sqrt(12. * kT * inv_mu * (1. - a * a)) * xt;
+      Vector3d const du = (ou.a - 1.) * ut + ou.s * xt;
       J += du / inv_mu;
     }
     ps.v[j] += inv_m * J;

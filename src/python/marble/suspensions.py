@@ -300,16 +300,11 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         radius_calibration = "stick" if boundary == "stick" else "none"
     if radius_calibration == "none":
         ratio = 1.0
-    elif radius_calibration == "stick":
+    elif radius_calibration in ("stick", "rotation"):
         if boundary != "stick":
-            raise ValueError("parameter 'radius_calibration': 'stick' applies to boundary='stick' only "
-                             "(use 'none' or your own ratio)")
-        ratio = STICK_RADIUS_RATIO
-    elif radius_calibration == "rotation":
-        if boundary != "stick":
-            raise ValueError("parameter 'radius_calibration': 'rotation' applies to boundary='stick' only "
-                             "(use 'none' or your own ratio)")
-        ratio = STICK_ROTATIONAL_RADIUS_RATIO
+            raise ValueError(f"parameter 'radius_calibration': {radius_calibration!r} applies to "
+                             "boundary='stick' only (use 'none' or your own ratio)")
+        ratio = STICK_RADIUS_RATIO if radius_calibration == "stick" else STICK_ROTATIONAL_RADIUS_RATIO
     elif isinstance(radius_calibration, str):
         raise ValueError("parameter 'radius_calibration' must be 'none', 'stick', 'rotation' or a ratio > 0, "
                          f"got {radius_calibration!r}")
