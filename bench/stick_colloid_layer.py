@@ -58,6 +58,8 @@ def parse(argv=None):
     p.add_argument("--eta-model", choices=["uniform", "density", "pairs"], default="uniform",
                    help="model: solvent viscosity in the layer (eta_0; eta_0 n(h)/n_bulk; or the DPD pairs "
                         "that straddle a plane near the core, layered_sphere.dpd_pair_viscosity_fraction)")
+    p.add_argument("--continuity", choices=["volume", "mass"], default="volume",
+                   help="model: div v = 0, or div(n v) = 0 with the equilibrium n(h) (layered_sphere.layer_from_profile)")
     p.add_argument("--eta-kinetic", type=float, default=0.0,
                    help="model, --eta-model pairs: the kinetic part of eta_0, scaled with n(h) instead")
     args = p.parse_args(argv)
@@ -161,7 +163,7 @@ def model(args):
     rc_shell = sus.surface_cutoff(a)
     print(f"density profile: {len(prof)} run(s), core a = {a}, bulk n = {n_bulk:.4f}; "
           f"viscosity {args.eta_model}" + (f" (kinetic part {args.eta_kinetic})" if args.eta_model == "pairs" else "")
-          + f"; eta_0 = {ETA0}")
+          + f"; continuity {args.continuity}; eta_0 = {ETA0}")
     print("| trans_gamma | shell | model R_t/a | model R_r/a | model R_s/a | model R_r/R_t | measured R_t/a | "
           "measured R_r/a | measured R_r/R_t |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -171,6 +173,7 @@ def model(args):
         lay = layered_sphere.layer_from_profile(h, n, a=a, trans_gamma=g, shell=shell, gamma=GAMMA,
                                                 dpd_shell=rc_shell, eta=ETA0,
                                                 eta_model=args.eta_model, eta_kinetic=args.eta_kinetic,
+                                                continuity=args.continuity,
                                                 n_bulk=n_bulk)
         res = layered_sphere.radii(lay)
         rows.append(res)

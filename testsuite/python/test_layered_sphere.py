@@ -24,7 +24,7 @@ ZERO, ONE = const(0.0), const(1.0)
 @pytest.mark.parametrize("l,k", [(1, -1), (1, -3), (1, 0), (1, 2), (2, -2), (2, -4), (2, 1), (2, 3)])
 def test_stokes_solutions_solve_the_odes(l, k):
     # the four power-law Stokes solutions of each harmonic satisfy the first-order system
-    rhs = ls._poloidal_rhs(l, ZERO, ZERO, const(0.7), 0.0)
+    rhs = ls._poloidal_rhs(l, ZERO, ZERO, const(0.7))
     for r in (0.8, 1.7, 3.1):
         eps = 1e-6 * r
         y = ls.free_solution(l, k, r, eta=0.7)
@@ -144,11 +144,26 @@ def test_layer_from_profile_and_bad_input():
     pairs = ls.radii(ls.layer_from_profile(h, n, a=1.0, trans_gamma=45.0, shell=0.26, gamma=4.5, dpd_shell=0.26,
                                            eta=0.329, eta_model="pairs"))
     assert all(pairs[k] < res[k] for k in ("R_t", "R_r", "R_s"))
+    # mass continuity div(n v) = 0: the same as div v = 0 for a uniform fluid, rotation unchanged
+    # for any profile, and a different translation for this one
+    flat = np.where(h > -0.1, 3.0, 0.0)
+    kw = dict(a=1.0, trans_gamma=45.0, shell=0.26, gamma=4.5, dpd_shell=0.26, eta=0.329, n_bulk=3.0)
+    flat_v = ls.radii(ls.layer_from_profile(h, flat, continuity="volume", **kw))
+    flat_m = ls.layer_from_profile(h, flat, continuity="mass", smooth=0.0, **kw)
+    assert flat_m["dlnn"](np.linspace(1.0, 2.4, 50)) == pytest.approx(0.0, abs=1e-12)
+    flat_m = ls.radii(flat_m)
+    for k in ("R_t", "R_r", "R_s"):
+        assert flat_m[k] == pytest.approx(flat_v[k], rel=1e-6)
+    mass = ls.radii(ls.layer_from_profile(h, n, continuity="mass", **kw))
+    vol = ls.radii(ls.layer_from_profile(h, n, **kw))
+    assert mass["R_r"] == pytest.approx(vol["R_r"], rel=1e-6)
+    assert abs(mass["R_t"] / vol["R_t"] - 1) > 1e-4
     for bad in (dict(a=0.0), dict(shell=-1.0), dict(trans_gamma=float("nan")), dict(eta=0.0),
-                dict(eta_model="viscous"), dict(eta_kinetic=1.0)):
+                dict(eta_model="viscous"), dict(eta_kinetic=1.0), dict(continuity="incompressible"),
+                dict(continuity="mass", h_bulk=0.1), dict(continuity="mass", smooth=-1.0)):
         kw = dict(a=1.0, trans_gamma=45.0, shell=0.26, gamma=4.5, dpd_shell=0.26, eta=0.329)
         kw.update(bad)
-        with pytest.raises(ValueError, match=list(bad)[0]):
+        with pytest.raises(ValueError, match=list(bad)[-1]):
             ls.layer_from_profile(h, n, **kw)
     with pytest.raises(ValueError, match="'h', 'n'"):
         ls.layer_from_profile(h[::-1], n, a=1.0, trans_gamma=45.0, shell=0.26, gamma=4.5, dpd_shell=0.26, eta=0.3)

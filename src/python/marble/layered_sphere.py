@@ -157,7 +157,7 @@ def free_solution(l, k, r, eta=1.0):
     return np.array([A, B, S, T])
 
 
-def _poloidal_rhs(l, K_n, K_t, eta, U):
+def _poloidal_rhs(l, K_n, K_t, eta, dlnn=None):
     lam = l * (l + 1) / 2.0
     c1, c2 = _C[l]
 
@@ -165,45 +165,49 @@ def _poloidal_rhs(l, K_n, K_t, eta, U):
         A, B, S, T = y
         e = eta(r)
         dA = 2.0 * (B - A) / r
+        if dlnn is not None:
+            dA = dA - A * dlnn(r)
         dB = T / e - (lam * A - B) / r
         P = 2.0 * e * dA - S
-        dS = K_n(r) * (A - U) - 4 * e * dA / r + 2 * e * dB / r + c1 * e * A / r ** 2 - 6 * e * B / r ** 2
-        dT = K_t(r) * (B - U) - 3 * e * dB / r + lam * P / r - e * (lam * A - B) / r ** 2 \
+        dS = K_n(r) * A - 4 * e * dA / r + 2 * e * dB / r + c1 * e * A / r ** 2 - 6 * e * B / r ** 2
+        dT = K_t(r) * B - 3 * e * dB / r + lam * P / r - e * (lam * A - B) / r ** 2 \
             - c2 * e * (A - B) / r ** 2
         return np.array([dA, dB, dS, dT])
     return rhs
 
 
-def _poloidal(l, r0, r1, K_n, K_t, eta, eta_out, max_step):
-    """Coefficients (c, d) of the decaying solutions A = c r^k1 + d r^k2 outside:
-    translation at V = 1 (l = 1: k = -1, -3), strain at eps = 1 (l = 2: k = -2, -4)."""
-    U = 1.0 if l == 1 else 0.0
-    rhs = _poloidal_rhs(l, K_n, K_t, eta, U)
+def _poloidal(l, r0, r1, K_n, K_t, eta, eta_out, max_step, dlnn=None):
+    """Coefficients (c, d) of the decaying solutions A = c r^k1 + d r^k2 outside, in
+    the sphere's frame (the friction acts on the velocity relative to the sphere):
+    translation at V = 1 (l = 1: the stream -V far away, k = -1, -3), strain at
+    eps = 1 (l = 2: k = -2, -4). dlnn: d ln n/dr for the mass continuity
+    div(n v) = 0 (None: div v = 0)."""
+    rhs = _poloidal_rhs(l, K_n, K_t, eta, dlnn)
     ks = (-1, -3) if l == 1 else (-2, -4)
     f1, f2 = free_solution(l, ks[0], r1, eta_out), free_solution(l, ks[1], r1, eta_out)
-    bg = np.zeros(4) if l == 1 else free_solution(2, 1, r1, eta_out)
+    bg = -free_solution(1, 0, r1, eta_out) if l == 1 else free_solution(2, 1, r1, eta_out)
 
     def solve(m):
-        return _linear_bvp(rhs, 4, m, ([[1.0, 0, 0, 0], [0, 0, 0, 1.0]], [U, 0.0]),
+        return _linear_bvp(rhs, 4, m, ([[1.0, 0, 0, 0], [0, 0, 0, 1.0]], [0.0, 0.0]),
                            (np.eye(4), -np.column_stack([f1, f2]), bg), 2)[1]
     p = _extrapolated(solve, r0, r1, max_step)
     return float(p[0]), float(p[1])
 
 
-def translation(r0, r1, K_n, K_t, eta, eta_out, max_step=None):
+def translation(r0, r1, K_n, K_t, eta, eta_out, max_step=None, dlnn=None):
     """Translational friction: returns (zeta_t, R_t), zeta_t = 6 pi eta_out R_t.
-    Outside, A = c/r + ...: the Stokeslet of the force 4 pi eta_out c on the fluid."""
+    Outside, A = -1 + c/r + ...: the Stokeslet of the force 4 pi eta_out c on the fluid."""
     _check_layer(r0, r1, eta_out)
-    c, _ = _poloidal(1, r0, r1, K_n, K_t, eta, eta_out, max_step)
+    c, _ = _poloidal(1, r0, r1, K_n, K_t, eta, eta_out, max_step, dlnn)
     return 4.0 * math.pi * eta_out * c, 2.0 * c / 3.0
 
 
-def stresslet(r0, r1, K_n, K_t, eta, eta_out, max_step=None):
+def stresslet(r0, r1, K_n, K_t, eta, eta_out, max_step=None, dlnn=None):
     """Stresslet in a pure strain: returns (the intrinsic viscosity 2.5 R_s^3 per
     unit volume of a sphere of radius 1, R_s); a no-slip sphere of radius R has
     A = -(5/2) R^3/r^2 + ... outside."""
     _check_layer(r0, r1, eta_out)
-    c, _ = _poloidal(2, r0, r1, K_n, K_t, eta, eta_out, max_step)
+    c, _ = _poloidal(2, r0, r1, K_n, K_t, eta, eta_out, max_step, dlnn)
     Rs3 = -2.0 * c / 5.0
     return 2.5 * Rs3, math.copysign(abs(Rs3) ** (1.0 / 3.0), Rs3)
 
@@ -253,7 +257,8 @@ ETA_MODELS = ("uniform", "density", "pairs")
 
 
 def layer_from_profile(h, n, a, trans_gamma, shell, gamma, dpd_shell, eta, eta_model="uniform", n_bulk=None,
-                       h0=None, eta_kinetic=0.0, r_cut=1.0, eta_floor=1e-3):
+                       h0=None, eta_kinetic=0.0, r_cut=1.0, eta_floor=1e-3, continuity="volume", smooth=0.02,
+                       h_bulk=1.5):
     """The stick colloid's layer from a bead density profile n(h) on the gap h = r - a:
     K_t = n trans_gamma w^2 with w = 1 - max(h, 0)/shell (surface_friction), K_n = n
     gamma w_c^2 with w_c = 1 - max(h, 0)/dpd_shell (the colloid-solvent DPD), the
@@ -266,6 +271,12 @@ def layer_from_profile(h, n, a, trans_gamma, shell, gamma, dpd_shell, eta, eta_m
       dpd_pair_viscosity_fraction (flat-wall approximation on the gap); the layer
       ends at a + max(shells) + r_cut + 0.5, where f is 1 within 1 %.
 
+    ``continuity``: ``"volume"`` (div v = 0) or ``"mass"``: the steady flow relative
+    to the sphere conserves the beads, div(n v) = 0 with the equilibrium n(h)
+    (smoothed with a Gaussian of width ``smooth``, and n = n_bulk beyond
+    ``h_bulk``, where the layer then ends): the DPD fluid is compressible, and its
+    density near the core is far from uniform. Rotation is the same either way.
+
     Returns a dict for radii()."""
     h = np.asarray(h, dtype=float)
     n = np.asarray(n, dtype=float)
@@ -276,6 +287,8 @@ def layer_from_profile(h, n, a, trans_gamma, shell, gamma, dpd_shell, eta, eta_m
             raise ValueError(f"parameter '{name}' must be {'> 0' if strict else '>= 0'}, got {v}")
     if eta_kinetic > eta:
         raise ValueError(f"parameter 'eta_kinetic' must be <= eta = {eta}, got {eta_kinetic}")
+    if continuity not in ("volume", "mass"):
+        raise ValueError(f"parameter 'continuity' must be 'volume' or 'mass', got {continuity!r}")
     if eta_model not in ETA_MODELS:
         raise ValueError(f"parameter 'eta_model' must be one of {ETA_MODELS}, got {eta_model!r}")
     if h.shape != n.shape or h.ndim != 1 or len(h) < 2 or np.any(np.diff(h) <= 0) or np.any(n < 0):
@@ -288,6 +301,24 @@ def layer_from_profile(h, n, a, trans_gamma, shell, gamma, dpd_shell, eta, eta_m
         h0 = float(h[above[0]]) if len(above) else 0.0
     r0 = a + h0
     r1 = a + max(shell, dpd_shell) + (r_cut + 0.5 if eta_model == "pairs" else 0.0)
+    dlnn = None
+    if continuity == "mass":
+        if not (math.isfinite(smooth) and smooth >= 0):
+            raise ValueError(f"parameter 'smooth' must be >= 0, got {smooth}")
+        if not (math.isfinite(h_bulk) and h_bulk > max(shell, dpd_shell) and h_bulk <= h[-1]):
+            raise ValueError(f"parameter 'h_bulk' must lie between the shells and the profile's end {h[-1]}, got {h_bulk}")
+        r1 = max(r1, a + h_bulk)
+        hg = np.arange(h[0], h[-1], 0.0025)
+        ng = np.interp(hg, h, n)
+        if smooth > 0:
+            k = np.arange(-4 * smooth, 4 * smooth + 1e-12, 0.0025)
+            wk = np.exp(-0.5 * (k / smooth) ** 2)
+            ng = np.convolve(np.pad(ng, len(k) // 2, mode="edge"), wk / wk.sum(), mode="valid")[:len(hg)]
+        ng = np.where(hg >= h_bulk, nb, ng)
+        lg = np.gradient(np.log(np.maximum(ng, eta_floor * nb)), hg)
+
+        def dlnn(r):
+            return np.interp(r - a, hg, lg)
 
     def n_of(r):
         return np.interp(r - a, h, n)
@@ -315,13 +346,14 @@ def layer_from_profile(h, n, a, trans_gamma, shell, gamma, dpd_shell, eta, eta_m
             return eta + 0.0 * r
     step = min(float(np.min(np.diff(h))), (max(shell, dpd_shell) - h0) / 200.0)
     return dict(r0=r0, r1=r1, K_t=K_t, K_n=K_n, eta=eta_of, eta_out=eta, max_step=step, h0=h0,
-                eta_model=eta_model)
+                eta_model=eta_model, dlnn=dlnn, continuity=continuity)
 
 
 def radii(layer):
     """R_t, R_r, R_s (and the frictions) of a layer dict from layer_from_profile()."""
     kw = dict(max_step=layer["max_step"])
-    zt, Rt = translation(layer["r0"], layer["r1"], layer["K_n"], layer["K_t"], layer["eta"], layer["eta_out"], **kw)
+    d = dict(dlnn=layer.get("dlnn"))
+    zt, Rt = translation(layer["r0"], layer["r1"], layer["K_n"], layer["K_t"], layer["eta"], layer["eta_out"], **kw, **d)
     zr, Rr = rotation(layer["r0"], layer["r1"], layer["K_t"], layer["eta"], layer["eta_out"], **kw)
-    iv, Rs = stresslet(layer["r0"], layer["r1"], layer["K_n"], layer["K_t"], layer["eta"], layer["eta_out"], **kw)
+    iv, Rs = stresslet(layer["r0"], layer["r1"], layer["K_n"], layer["K_t"], layer["eta"], layer["eta_out"], **kw, **d)
     return dict(R_t=Rt, R_r=Rr, R_s=Rs, zeta_t=zt, zeta_r=zr, intrinsic_viscosity=iv)
