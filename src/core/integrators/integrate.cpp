@@ -318,7 +318,7 @@ int System::run_md(int n_steps) {
           dv[i] = m_ps.v[i] - dv[i];
         add_friction_of_dv(*this, dv);
       }
-    } else if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active) {
+    } else if (shardlow_sweep_active()) {
       kick(0.5 * m_time_step);
       // the sweep sees x(t + dt), so the state returned is the one just thermalised
       shardlow_sweep(*this);
@@ -497,7 +497,7 @@ int System::run_md_respa(int n_steps) {
     kick_fast(0.5 * h);
     kick(0.5 * dt);
 #ifdef DPD
-    if (m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active)
+    if (shardlow_sweep_active())
       shardlow_sweep(*this);
 #endif
     n = m_ps.n_local();

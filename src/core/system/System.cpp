@@ -117,7 +117,8 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
 #ifdef TRANS_DPD
   // the rotational pair kernel (stick friction) on the main list's pairs: its
   // own pass (spins and torques), explicit unless Shardlow updates it
-  if (with_thermostat && m_thermo.dpd.active && m_dpd_in_pair_loop && m_ia.any_active<SurfaceFriction>())
+  if (with_thermostat && m_thermo.dpd.active && !shardlow_sweep_active() &&
+      m_ia.any_active<SurfaceFriction>())
     add_surface_friction_forces(m_ps, m_cells, m_ia, noise_context(true), m_comm.parallel());
 #endif
 #ifdef MARBLE
@@ -125,7 +126,7 @@ void System::add_extra_forces([[maybe_unused]] bool with_thermostat) {
     // RESPA's slow forces leave the colloid pairs' conservative kernels out;
     // under Shardlow its sweep updates the marble coupling (integrators/shardlow.cpp)
     m_colloids.add_forces(m_ps, m_ia, noise_context(with_thermostat), !m_exclude_fast,
-                          /*with_marble=*/m_dpd_in_pair_loop || !m_thermo.dpd.active);
+                          /*with_marble=*/!shardlow_sweep_active());
   }
 #endif
   if (!m_constraints.empty())

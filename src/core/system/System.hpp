@@ -175,6 +175,16 @@ public:
   /** False with Shardlow: the main pair loop then leaves DPD out (the
    * integrator updates those pairs itself) and forces hold the rest. */
   bool pair_dpd_in_force_loop() const { return m_dpd_in_pair_loop; }
+  /** True when the Shardlow sweep runs in a step (integrator Shardlow with the
+   * DPD thermostat on): it then updates the DPD pairs, the stick friction and
+   * the marble coupling exactly, and the force passes leave them out. */
+  bool shardlow_sweep_active() const {
+#ifdef DPD
+    return m_integrator == IntegratorKind::Shardlow && m_thermo.dpd.active;
+#else
+    return false;
+#endif
+  }
   void set_integrator_sd(SteepestDescentParams const &p) {
     m_integrator = IntegratorKind::SteepestDescent;
     m_substeps = 1;
