@@ -199,3 +199,94 @@ TEST(PairSelect, RowPathsAgreeBitForBit) {
       }
   }
 }
+
+// Scenes of several types (nt = 3; one type pair with cutoff 0, i.e. never
+// selected, as the colloid pairs a separate list serves): every typed path
+// of the block and the row select against the plain loop with the table's
+// cutoff per pair, bit for bit, and the dispatched calls against scalar.
+TEST(PairSelect, TypedPathsAgreeBitForBit) {
+  std::mt19937_64 g(23);
+  int const n_part = 300, nt = 3;
+  Scene const sc = make_scene(g, n_part, 600);
+  std::vector<int> typ(n_part);
+  for (auto &t : typ)
+    t = static_cast<int>(g() % nt);
+  double const cut2_table[9] = {1.44, 0.81, 0., 0.81, 2.25, 1.0, 0., 1.0, 0.49};
+  auto in_range = [&](int i, int j) {
+    double const dx = sc.pos[i][0] - sc.pos[j][0], dy = sc.pos[i][1] - sc.pos[j][1], dz = sc.pos[i][2] - sc.pos[j][2];
+    return !(dx * dx + dy * dy + dz * dz >= cut2_table[typ[i] * nt + typ[j]]);
+  };
+  auto const paths = Marble::pair_typed_select_paths();
+  ASSERT_GE(paths.size(), 1u);
+  // the block select
+  for (int nb : {0, 1, 3, 4, 5, 7, 8, 100, 511, 512}) {
+    std::vector<std::array<int, 2>> want;
+    for (int q = 0; q < nb; ++q)
+      if (in_range(sc.pairs[q][0], sc.pairs[q][1]))
+        want.push_back(sc.pairs[q]);
+    for (auto const &path : paths) {
+      auto B = std::make_unique<Marble::PairBlockSoA>();
+      std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
+      int const n = path.select(sc.pairs.data(), nb, sc.pos.data(), typ.data(), cut2_table, nt, bij.data(), *B);
+      ASSERT_EQ(n, static_cast<int>(want.size())) << path.name << " nb " << nb;
+      for (int s = 0; s < n; ++s) {
+        ASSERT_EQ(bij[s], want[s]) << path.name;
+        auto const [i, j] = bij[s];
+        ASSERT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0])) << path.name;
+        ASSERT_TRUE(same_bits(B->dy[s], sc.pos[i][1] - sc.pos[j][1])) << path.name;
+        ASSERT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2])) << path.name;
+      }
+    }
+    // the dispatched call equals the scalar path
+    auto A = std::make_unique<Marble::PairBlockSoA>();
+    std::vector<std::array<int, 2>> a(Marble::kPairBlock);
+    int const na = Marble::pair_block_select(sc.pairs.data(), nb, sc.pos.data(), typ.data(), cut2_table, nt,
+                                             a.data(), *A);
+    ASSERT_EQ(na, static_cast<int>(want.size()));
+    for (int s = 0; s < na; ++s)
+      ASSERT_EQ(a[s], want[s]);
+  }
+  // the row select, resumed block by block
+  for (int n_rows : {0, 1, 5, 120}) {
+    std::vector<int> row_start{0}, pj;
+    for (int i = 0; i < n_rows; ++i) {
+      int const len = static_cast<int>(g() % 4 == 0 ? g() % 4 : g() % 60);
+      for (int k = 0; k < len; ++k)
+        pj.push_back(static_cast<int>((i + 1 + g() % (n_part - 1)) % n_part));
+      row_start.push_back(static_cast<int>(pj.size()));
+    }
+    pj.insert(pj.end(), {0, 0, 0, 0});
+    std::vector<std::array<int, 2>> want;
+    for (int i = 0; i < n_rows; ++i)
+      for (int k = row_start[i]; k < row_start[i + 1]; ++k)
+        if (in_range(i, pj[k]))
+          want.push_back({i, pj[k]});
+    auto run = [&](auto &&select, int limit) {
+      std::vector<std::array<int, 2>> got;
+      Marble::RowCursor c;
+      auto B = std::make_unique<Marble::PairBlockSoA>();
+      std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
+      int guard = 0;
+      while (c.i < n_rows) {
+        int const n = select(row_start.data(), pj.data(), n_rows, c, limit, sc.pos.data(), typ.data(), cut2_table, nt,
+                             bij.data(), *B);
+        EXPECT_LE(n, limit + 4);
+        for (int s = 0; s < n; ++s) {
+          auto const [i, j] = bij[s];
+          EXPECT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0]));
+          EXPECT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2]));
+          got.push_back(bij[s]);
+        }
+        if (++guard > 100000)
+          break;
+      }
+      return got;
+    };
+    for (auto const &path : paths)
+      for (int limit : {0, 5, 192, Marble::kPairBlock - 4})
+        ASSERT_EQ(run(path.rows_select, limit), want) << path.name << " limit " << limit << " rows " << n_rows;
+    ASSERT_EQ(run(&Marble::pair_rows_select, 192), want) << "dispatched";
+  }
+  // the typed paths exist beside the one-type ones on this CPU
+  ASSERT_EQ(paths.size(), Marble::pair_rows_select_paths().size());
+}

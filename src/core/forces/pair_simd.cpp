@@ -412,6 +412,97 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
   return n;
 }
 
+/** select_scalar<false> four listed pairs at a time: select_avx2_one_type
+ * with the squared cutoff of each lane's type pair gathered from the table
+ * (index typ[i] nt + typ[j]), the same IEEE operations and comparison as the
+ * scalar select. */
+__attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *__restrict blk, int nb,
+                                                      Utils::Vector3d const *__restrict pos,
+                                                      int const *__restrict typ,
+                                                      double const *__restrict cut2_table, int nt,
+                                                      std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  __m128i const ntv = _mm_set1_epi32(nt);
+  __m256i const split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7); // (i0 j0 i1 j1 ..) -> (i0 i1 i2 i3 j0 ..)
+  int n = 0, q = 0;
+  for (; q + 4 <= nb; q += 4) {
+    prefetch_ahead(blk + q);
+    int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
+    __m256d xi, yi, zi, xj, yj, zj;
+    if (i0 == i3 && i1 == i0 && i2 == i0) {
+      xi = _mm256_broadcast_sd(&pos[i0][0]), yi = _mm256_broadcast_sd(&pos[i0][1]);
+      zi = _mm256_broadcast_sd(&pos[i0][2]);
+    } else {
+      load4(pos, i0, i1, i2, i3, xi, yi, zi);
+    }
+    load4(pos, blk[q][1], blk[q + 1][1], blk[q + 2][1], blk[q + 3][1], xj, yj, zj);
+    __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
+    __m256d const r2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    __m256i const prs = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(blk + q));
+    __m256i const sep = _mm256_permutevar8x32_epi32(prs, split);
+    __m128i const ti = _mm_i32gather_epi32(typ, _mm256_castsi256_si128(sep), 4);
+    __m128i const tj = _mm_i32gather_epi32(typ, _mm256_extracti128_si256(sep, 1), 4);
+    __m256d const c2 = _mm256_i32gather_pd(cut2_table, _mm_add_epi32(_mm_mullo_epi32(ti, ntv), tj), 8);
+    int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
+    __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(prs, perm));
+    _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
+    _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
+    _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
+    n += std::popcount(static_cast<unsigned>(m));
+  }
+  return select_scalar<false>(blk, q, nb, pos, typ, cut2_table, nt, bij, B, n);
+}
+
+/** rows_select_scalar<false> four listed pairs of a row at a time:
+ * rows_select_avx2_one_type with the row's line of the cutoff table and the
+ * partners' types gathered (the padding indices are valid particles). */
+__attribute__((target("avx2"))) int rows_select_avx2_typed(int const *__restrict row_start,
+                                                           int const *__restrict pj, int n_rows, RowCursor &c,
+                                                           int limit, Utils::Vector3d const *__restrict pos,
+                                                           int const *__restrict typ,
+                                                           double const *__restrict cut2_table, int nt,
+                                                           std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  int n = 0, i = c.i, k = c.k;
+  for (; i < n_rows; ++i) {
+    int const k1 = row_start[i + 1];
+    if (k >= k1)
+      continue;
+    __m256d const xi = _mm256_broadcast_sd(&pos[i][0]), yi = _mm256_broadcast_sd(&pos[i][1]),
+                  zi = _mm256_broadcast_sd(&pos[i][2]);
+    __m128i const iv = _mm_set1_epi32(i);
+    double const *const c2row = cut2_table + typ[i] * nt;
+    for (; k < k1; k += 4) {
+      if (n > limit) {
+        c = {i, k};
+        return n;
+      }
+      if ((k & 15) == 0)
+        __builtin_prefetch(pj + k + 256);
+      __m256d xj, yj, zj;
+      load4(pos, pj[k], pj[k + 1], pj[k + 2], pj[k + 3], xj, yj, zj);
+      __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
+      __m256d const r2 =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(pj + k));
+      __m256d const c2 = _mm256_i32gather_pd(c2row, _mm_i32gather_epi32(typ, js, 4), 8);
+      int const rem = k1 - k;
+      int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ)) & (rem >= 4 ? 15 : (1 << rem) - 1);
+      __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
+      __m256i const ij = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_unpacklo_epi32(iv, js)),
+                                                 _mm_unpackhi_epi32(iv, js), 1);
+      _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(ij, perm));
+      _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
+      _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
+      _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
+      n += std::popcount(static_cast<unsigned>(m));
+    }
+    k = k1;
+  }
+  c = {i, k};
+  return n;
+}
+
 /** gather_dpd_scalar four pairs at a time, with no branch: the records of
  * v_i and v_j (one aligned 256-bit load each), subtracted record by record
  * (lanes 0-2: the scalar subtractions), transposed into lanes; the ids
@@ -519,6 +610,10 @@ int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d con
 #endif
     return select_scalar<true>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
   }
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    return select_avx2_typed(blk, nb, pos, typ, cut2_table, nt, bij, b);
+#endif
   return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, b, 0);
 }
 
@@ -541,6 +636,10 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
 #endif
     return rows_select_scalar<true>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
   }
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    return rows_select_avx2_typed(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
+#endif
   return rows_select_scalar<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
 }
 
@@ -559,6 +658,27 @@ std::vector<PairScatterPath> pair_scatter_paths() {
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
     out.push_back({"avx2", &scatter_avx2_pairs}), out.push_back({"avx2_runs", &scatter_avx2_runs});
+#endif
+  return out;
+}
+
+namespace {
+int select_scalar_typed(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                        double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &B) {
+  return select_scalar<false>(blk, 0, nb, pos, typ, cut2_table, nt, bij, B, 0);
+}
+int rows_select_scalar_typed(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                             Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
+                             std::array<int, 2> *bij, PairBlockSoA &B) {
+  return rows_select_scalar<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, B);
+}
+} // namespace
+
+std::vector<PairTypedSelectPath> pair_typed_select_paths() {
+  std::vector<PairTypedSelectPath> out{{"scalar", &select_scalar_typed, &rows_select_scalar_typed}};
+#ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_has_avx2())
+    out.push_back({"avx2", &select_avx2_typed, &rows_select_avx2_typed});
 #endif
   return out;
 }

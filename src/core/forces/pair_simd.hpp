@@ -73,8 +73,9 @@ using Force4 = Rec4;
  * cutoff (@p cut2_table, a * nt + b; a NaN distance is kept: the force check
  * reports it) and gather them: pair and d = r_i - r_j at the next free slot,
  * in list order. One pass with no data-dependent branch; with AVX2 four
- * listed pairs at a time (compare, then a compress by permutation), else
- * scalar: the same subtractions, the same bits. Returns the number selected. */
+ * listed pairs at a time (compare, then a compress by permutation; with
+ * several types the four cutoffs gathered from the table), else scalar: the
+ * same subtractions, the same bits. Returns the number selected. */
 int pair_block_select(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
                       double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &b);
 
@@ -136,6 +137,18 @@ struct PairRowsSelectPath {
                 std::array<int, 2> *, PairBlockSoA &);
 };
 std::vector<PairRowsSelectPath> pair_rows_select_paths();
+
+/** Every code path of pair_block_select and pair_rows_select for scenes of
+ * several types (nt > 1: the squared cutoff from the type-pair table) this
+ * CPU has (tests). */
+struct PairTypedSelectPath {
+  char const *name;
+  int (*select)(std::array<int, 2> const *, int, Utils::Vector3d const *, int const *, double const *, int,
+                std::array<int, 2> *, PairBlockSoA &);
+  int (*rows_select)(int const *, int const *, int, RowCursor &, int, Utils::Vector3d const *, int const *,
+                     double const *, int, std::array<int, 2> *, PairBlockSoA &);
+};
+std::vector<PairTypedSelectPath> pair_typed_select_paths();
 
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */
