@@ -413,7 +413,7 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
 }
 
 /** select_scalar<false> four listed pairs at a time: select_avx2_one_type
- * with the squared cutoff of each lane's type pair gathered from the table
+ * with the squared cutoff of each lane's type pair loaded from the table
  * (index typ[i] nt + typ[j]), the same IEEE operations and comparison as the
  * scalar select. */
 __attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *__restrict blk, int nb,
@@ -421,8 +421,6 @@ __attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *
                                                       int const *__restrict typ,
                                                       double const *__restrict cut2_table, int nt,
                                                       std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
-  __m128i const ntv = _mm_set1_epi32(nt);
-  __m256i const split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7); // (i0 j0 i1 j1 ..) -> (i0 i1 i2 i3 j0 ..)
   int n = 0, q = 0;
   for (; q + 4 <= nb; q += 4) {
     prefetch_ahead(blk + q);
@@ -438,11 +436,13 @@ __attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *
     __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
     __m256d const r2 =
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    // the four cutoffs by scalar loads (vpgather is slow on CPUs with the
+    // gather-data-sampling mitigation)
+    __m256d const c2 = _mm256_setr_pd(cut2_table[typ[i0] * nt + typ[blk[q][1]]],
+                                      cut2_table[typ[i1] * nt + typ[blk[q + 1][1]]],
+                                      cut2_table[typ[i2] * nt + typ[blk[q + 2][1]]],
+                                      cut2_table[typ[i3] * nt + typ[blk[q + 3][1]]]);
     __m256i const prs = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(blk + q));
-    __m256i const sep = _mm256_permutevar8x32_epi32(prs, split);
-    __m128i const ti = _mm_i32gather_epi32(typ, _mm256_castsi256_si128(sep), 4);
-    __m128i const tj = _mm_i32gather_epi32(typ, _mm256_extracti128_si256(sep, 1), 4);
-    __m256d const c2 = _mm256_i32gather_pd(cut2_table, _mm_add_epi32(_mm_mullo_epi32(ti, ntv), tj), 8);
     int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
     __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
     _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(prs, perm));
@@ -456,7 +456,7 @@ __attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *
 
 /** rows_select_scalar<false> four listed pairs of a row at a time:
  * rows_select_avx2_one_type with the row's line of the cutoff table and the
- * partners' types gathered (the padding indices are valid particles). */
+ * partners' types (the padding indices are valid particles). */
 __attribute__((target("avx2"))) int rows_select_avx2_typed(int const *__restrict row_start,
                                                            int const *__restrict pj, int n_rows, RowCursor &c,
                                                            int limit, Utils::Vector3d const *__restrict pos,
@@ -485,7 +485,8 @@ __attribute__((target("avx2"))) int rows_select_avx2_typed(int const *__restrict
       __m256d const r2 =
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
       __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(pj + k));
-      __m256d const c2 = _mm256_i32gather_pd(c2row, _mm_i32gather_epi32(typ, js, 4), 8);
+      __m256d const c2 = _mm256_setr_pd(c2row[typ[pj[k]]], c2row[typ[pj[k + 1]]], c2row[typ[pj[k + 2]]],
+                                        c2row[typ[pj[k + 3]]]);
       int const rem = k1 - k;
       int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ)) & (rem >= 4 ? 15 : (1 << rem) - 1);
       __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
