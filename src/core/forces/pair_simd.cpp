@@ -436,8 +436,8 @@ __attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *
     __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
     __m256d const r2 =
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    // the four cutoffs by scalar loads (vpgather is slow on CPUs with the
-    // gather-data-sampling mitigation)
+    // the four cutoffs by scalar loads (vpgather measured slower here:
+    // doc/benchmarks.md, session 14)
     __m256d const c2 = _mm256_setr_pd(cut2_table[typ[i0] * nt + typ[blk[q][1]]],
                                       cut2_table[typ[i1] * nt + typ[blk[q + 1][1]]],
                                       cut2_table[typ[i2] * nt + typ[blk[q + 2][1]]],
