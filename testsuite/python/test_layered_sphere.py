@@ -219,3 +219,46 @@ def test_bench_bad_input(opt, val, capsys):
     with pytest.raises(SystemExit):
         mod.parse(["--part", "density", opt, val])
     assert opt in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("l", [1, 2])
+def test_first_order_system_is_the_stress_divergence(l):
+    # independent of the hand derivation: sympy writes the r and theta components of
+    # div(sigma) + f in spherical coordinates for v_r = A P_l, v_theta = B (-2/(l(l+1))) sin P_l',
+    # p = P P_l, with a radially varying eta and arbitrary (non-solution) A, P, eta, K; the code's
+    # S' and T' must differ from the true derivatives of S and T by exactly those residuals
+    sp = pytest.importorskip("sympy")
+    r, th = sp.symbols("r theta", positive=True)
+    X = sp.Symbol("X")
+    A = 0.3 + sp.sin(r) / r ** 2
+    P = sp.exp(-r) * (1 + r)
+    eta = 0.4 + 0.1 * sp.cos(2 * r)
+    Kn, Kt = 2 + r ** 2, 5 * sp.exp(-r / 3)
+    B = A + r * sp.diff(A, r) / 2  # div v = 0
+    x = sp.cos(th)
+    Pl = sp.legendre(l, x)
+    ang = -sp.Rational(2, l * (l + 1)) * sp.sin(th) * sp.diff(sp.legendre(l, X), X).subs(X, x)
+    vr, vt, p = A * Pl, B * ang, P * Pl
+    err = sp.diff(vr, r)
+    ett = sp.diff(vt, th) / r + vr / r
+    epp = vr / r + vt * sp.cot(th) / r
+    ert = (r * sp.diff(vt / r, r) + sp.diff(vr, th) / r) / 2
+    srr, stt, spp, srt = -p + 2 * eta * err, -p + 2 * eta * ett, -p + 2 * eta * epp, 2 * eta * ert
+    res_r = (sp.diff(srr, r) + sp.diff(srt, th) / r + (2 * srr - stt - spp + srt * sp.cot(th)) / r
+             - Kn * vr) / Pl
+    res_t = (sp.diff(srt, r) + sp.diff(stt, th) / r + ((stt - spp) * sp.cot(th) + 3 * srt) / r - Kt * vt) / ang
+    S, T = sp.simplify(srr / Pl), sp.simplify(srt / ang)
+    f = {k: sp.lambdify(r, e, "numpy") for k, e in dict(A=A, B=B, S=S, T=T, dS=sp.diff(S, r), dT=sp.diff(T, r),
+                                                         eta=eta, Kn=Kn, Kt=Kt).items()}
+    th0 = 0.7
+    rr = sp.lambdify(r, res_r.subs(th, th0), "numpy")
+    rt = sp.lambdify(r, res_t.subs(th, th0), "numpy")
+    rhs = ls._poloidal_rhs(l, f["Kn"], f["Kt"], f["eta"])
+    for rv in (0.9, 1.3, 2.2):
+        y = np.array([f["A"](rv), f["B"](rv), f["S"](rv), f["T"](rv)], dtype=float)
+        dA, dB, dS, dT = rhs(rv, y)
+        assert dS == pytest.approx(f["dS"](rv) - rr(rv), rel=1e-10, abs=1e-12)
+        assert dT == pytest.approx(f["dT"](rv) - rt(rv), rel=1e-10, abs=1e-12)
+        # and the kinematics: A' from continuity, B' from the definition of T
+        assert dA == pytest.approx(float(sp.diff(A, r).subs(r, rv)), rel=1e-12)
+        assert dB == pytest.approx(float(sp.diff(B, r).subs(r, rv)), rel=1e-12)

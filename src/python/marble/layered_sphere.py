@@ -16,24 +16,27 @@ radial ODE:
   tau' = r^4 K_t (omega - Omega); tau(r0) = 0 (free-slip core); outside
   omega = C/r^3, zeta_r = 8 pi eta_out C/Omega, R_r = (C/Omega)^(1/3).
 - translation (V e_z, l = 1) and axisymmetric strain (E = eps diag(-1/2, -1/2, 1),
-  the sphere at rest, l = 2): u_r = A(r) P_l(cos theta), u_theta = B(r) (-2/(l(l+1)))
-  sin(theta) P_l'(cos theta), p = P(r) P_l, sigma_rr = S(r) P_l and sigma_rtheta =
-  T(r) times u_theta's angular function. With lam = l(l+1)/2:
+  the sphere at rest, l = 2), both in the sphere's frame (v = u - U, the stream
+  -V far away for translation): v_r = A(r) P_l(cos theta), v_theta = B(r)
+  (-2/(l(l+1))) sin(theta) P_l'(cos theta), p = P(r) P_l, sigma_rr = S(r) P_l and
+  sigma_rtheta = T(r) times v_theta's angular function. With lam = l(l+1)/2:
 
-      A' = 2 (B - A)/r
+      A' = 2 (B - A)/r  [- A d ln n/dr with mass continuity div(n v) = 0]
       B' = T/eta - (lam A - B)/r
-      S' = K_n (A - U) - 4 eta A'/r + 2 eta B'/r + c1 eta A/r^2 - 6 eta B/r^2
-      T' = K_t (B - U) - 3 eta B'/r + lam P/r - eta (lam A - B)/r^2 - c2 eta (A - B)/r^2
+      S' = K_n A - 4 eta A'/r + 2 eta B'/r + c1 eta A/r^2 - 6 eta B/r^2
+      T' = K_t B - 3 eta B'/r + lam P/r - eta (lam A - B)/r^2 - c2 eta (A - B)/r^2
 
-  with P = 2 eta A' - S, (c1, c2) = (6, 4) for l = 1 and (10, 12) for l = 2, and
-  U = V (translation) or 0 (strain). (Derived from the divergence of the stress
-  in spherical coordinates with a radially varying eta, whose derivative drops
-  out in these variables; testsuite/python/test_layered_sphere.py checks the Stokes
-  solutions below against them.) Core: A(r0) = U (no penetration), T(r0) = 0
-  (free slip). Outside, the flow is the imposed one plus the two decaying Stokes
-  solutions A ~ r^k: k = -1 (Stokeslet: A = 2c/r, force 8 pi eta c on the fluid,
-  R_t = 4c/(3V)) and -3 for l = 1; k = -2 (stresslet) and -4 for l = 2, where a
-  no-slip sphere of radius R has A = -(5/2) eps R^3/r^2, so R_s = (-2c/(5 eps))^(1/3).
+  with P = 2 eta A' - S, (c1, c2) = (6, 4) for l = 1 and (10, 12) for l = 2.
+  (Derived from the divergence of the stress in spherical coordinates with a
+  radially varying eta, whose derivative drops out in these variables; the
+  isotropic part of the stress from div v != 0 is absorbed in p;
+  testsuite/python/test_layered_sphere.py checks the Stokes solutions below
+  against them.) Core: A(r0) = 0 (no penetration), T(r0) = 0 (free slip).
+  Outside, the flow is the imposed one (A = -V for translation, A = eps r for
+  strain) plus the two decaying Stokes solutions A ~ r^k: k = -1 (the Stokeslet
+  A = c/r of the force 4 pi eta_out c on the fluid: R_t = 2c/(3V)) and -3 for
+  l = 1; k = -2 (stresslet) and -4 for l = 2, where a no-slip sphere of radius R
+  has A = -(5/2) eps R^3/r^2, so R_s = (-2c/(5 eps))^(1/3).
 
 Limits (tested): no friction gives the free-slip sphere r0 (R_t = 2/3 r0, R_r = 0,
 R_s = (2/5)^(1/3) r0); an impermeable layer (K -> inf) the no-slip sphere r1; a
