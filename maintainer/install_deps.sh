@@ -15,7 +15,7 @@ MARBLE_DEB_PACKAGES=(
   libboost-dev libfftw3-dev libhdf5-openmpi-dev libopenmpi-dev openmpi-bin
   pybind11-dev librandom123-dev libgtest-dev
   python3-dev python3-numpy python3-scipy python3-h5py python3-matplotlib python3-pytest
-  python3-mdanalysis python3-hypothesis python3-meshio
+  python3-mdanalysis python3-hypothesis python3-meshio python3-sympy
   python3-sphinx python3-myst-parser python3-nbsphinx pandoc jupyter-nbconvert python3-ipykernel
 )
 
