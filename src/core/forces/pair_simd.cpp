@@ -326,14 +326,19 @@ __attribute__((target("avx2"), always_inline)) inline void load4(Utils::Vector3d
   z = _mm256_insertf128_pd(_mm256_castpd128_pd256(zab), zcd, 1);
 }
 
-/** select_scalar<true> four listed pairs at a time: d in lanes (the same
+/** select_scalar<OneType> four listed pairs at a time: d in lanes (the same
  * IEEE subtractions, products and sums, no FMA), the in-range mask, and the
  * selected lanes stored compressed (each store writes four lanes from slot
- * n; n <= q, so it stays inside the block's arrays). */
-__attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> const *__restrict blk, int nb,
-                                                         Utils::Vector3d const *__restrict pos, double cut2,
-                                                         std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
-  __m256d const c2 = _mm256_set1_pd(cut2);
+ * n; n <= q, so it stays inside the block's arrays). With several types
+ * (!OneType) each lane's cut^2 comes from the table (typ[i] nt + typ[j]) by
+ * four scalar loads: vpgather measured slower here (doc/benchmarks.md,
+ * session 14). */
+template <bool OneType>
+__attribute__((target("avx2"))) int select_avx2(std::array<int, 2> const *__restrict blk, int nb,
+                                                Utils::Vector3d const *__restrict pos, int const *__restrict typ,
+                                                double const *__restrict cut2_table, int nt,
+                                                std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  __m256d const c2one = _mm256_set1_pd(cut2_table[0]);
   int n = 0, q = 0;
   for (; q + 4 <= nb; q += 4) {
     prefetch_ahead(blk + q);
@@ -349,6 +354,11 @@ __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> cons
     __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
     __m256d const r2 =
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    __m256d c2 = c2one;
+    if constexpr (!OneType)
+      c2 = _mm256_setr_pd(cut2_table[typ[i0] * nt + typ[blk[q][1]]], cut2_table[typ[i1] * nt + typ[blk[q + 1][1]]],
+                          cut2_table[typ[i2] * nt + typ[blk[q + 2][1]]],
+                          cut2_table[typ[i3] * nt + typ[blk[q + 3][1]]]);
     // !(r2 >= cut2), true for a NaN
     int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
     __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
@@ -359,20 +369,27 @@ __attribute__((target("avx2"))) int select_avx2_one_type(std::array<int, 2> cons
     _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
     n += std::popcount(static_cast<unsigned>(m));
   }
-  double const cut2_table[1] = {cut2};
-  return select_scalar<true>(blk, q, nb, pos, nullptr, cut2_table, 1, bij, B, n);
+  return select_scalar<OneType>(blk, q, nb, pos, typ, cut2_table, nt, bij, B, n);
 }
 
-/** rows_select_scalar<true> four listed pairs of a row at a time: r_i
+int select_avx2_one_type(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, double cut2,
+                         std::array<int, 2> *bij, PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return select_avx2<true>(blk, nb, pos, nullptr, cut2_table, 1, bij, B);
+}
+
+/** rows_select_scalar<OneType> four listed pairs of a row at a time: r_i
  * broadcast once per row, the row's last group masked to its length (the
  * list is padded by valid indices, so the extra lanes read valid particles),
- * the same IEEE operations as the scalar select. */
-__attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restrict row_start,
-                                                              int const *__restrict pj, int n_rows, RowCursor &c,
-                                                              int limit, Utils::Vector3d const *__restrict pos,
-                                                              double cut2, std::array<int, 2> *__restrict bij,
-                                                              PairBlockSoA &B) {
-  __m256d const c2 = _mm256_set1_pd(cut2);
+ * the same IEEE operations as the scalar select; with several types the
+ * row's line of the cutoff table and the partners' types by scalar loads. */
+template <bool OneType>
+__attribute__((target("avx2"))) int rows_select_avx2(int const *__restrict row_start, int const *__restrict pj,
+                                                     int n_rows, RowCursor &c, int limit,
+                                                     Utils::Vector3d const *__restrict pos,
+                                                     int const *__restrict typ, double const *__restrict cut2_table,
+                                                     int nt, std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
+  __m256d const c2one = _mm256_set1_pd(cut2_table[0]);
   int n = 0, i = c.i, k = c.k;
   for (; i < n_rows; ++i) {
     int const k1 = row_start[i + 1];
@@ -381,6 +398,7 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
     __m256d const xi = _mm256_broadcast_sd(&pos[i][0]), yi = _mm256_broadcast_sd(&pos[i][1]),
                   zi = _mm256_broadcast_sd(&pos[i][2]);
     __m128i const iv = _mm_set1_epi32(i);
+    double const *const c2row = OneType ? nullptr : cut2_table + typ[i] * nt;
     for (; k < k1; k += 4) {
       if (n > limit) {
         c = {i, k};
@@ -393,6 +411,9 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
       __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
       __m256d const r2 =
           _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      __m256d c2 = c2one;
+      if constexpr (!OneType)
+        c2 = _mm256_setr_pd(c2row[typ[pj[k]]], c2row[typ[pj[k + 1]]], c2row[typ[pj[k + 2]]], c2row[typ[pj[k + 3]]]);
       int const rem = k1 - k;
       // !(r2 >= cut2), true for a NaN; lanes past the row's end off
       int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ)) & (rem >= 4 ? 15 : (1 << rem) - 1);
@@ -412,96 +433,21 @@ __attribute__((target("avx2"))) int rows_select_avx2_one_type(int const *__restr
   return n;
 }
 
-/** select_scalar<false> four listed pairs at a time: select_avx2_one_type
- * with the squared cutoff of each lane's type pair loaded from the table
- * (index typ[i] nt + typ[j]), the same IEEE operations and comparison as the
- * scalar select. */
-__attribute__((target("avx2"))) int select_avx2_typed(std::array<int, 2> const *__restrict blk, int nb,
-                                                      Utils::Vector3d const *__restrict pos,
-                                                      int const *__restrict typ,
-                                                      double const *__restrict cut2_table, int nt,
-                                                      std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
-  int n = 0, q = 0;
-  for (; q + 4 <= nb; q += 4) {
-    prefetch_ahead(blk + q);
-    int const i0 = blk[q][0], i1 = blk[q + 1][0], i2 = blk[q + 2][0], i3 = blk[q + 3][0];
-    __m256d xi, yi, zi, xj, yj, zj;
-    if (i0 == i3 && i1 == i0 && i2 == i0) {
-      xi = _mm256_broadcast_sd(&pos[i0][0]), yi = _mm256_broadcast_sd(&pos[i0][1]);
-      zi = _mm256_broadcast_sd(&pos[i0][2]);
-    } else {
-      load4(pos, i0, i1, i2, i3, xi, yi, zi);
-    }
-    load4(pos, blk[q][1], blk[q + 1][1], blk[q + 2][1], blk[q + 3][1], xj, yj, zj);
-    __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
-    __m256d const r2 =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    // the four cutoffs by scalar loads (vpgather measured slower here:
-    // doc/benchmarks.md, session 14)
-    __m256d const c2 = _mm256_setr_pd(cut2_table[typ[i0] * nt + typ[blk[q][1]]],
-                                      cut2_table[typ[i1] * nt + typ[blk[q + 1][1]]],
-                                      cut2_table[typ[i2] * nt + typ[blk[q + 2][1]]],
-                                      cut2_table[typ[i3] * nt + typ[blk[q + 3][1]]]);
-    __m256i const prs = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(blk + q));
-    int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ));
-    __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
-    _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(prs, perm));
-    _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
-    _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
-    _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
-    n += std::popcount(static_cast<unsigned>(m));
-  }
-  return select_scalar<false>(blk, q, nb, pos, typ, cut2_table, nt, bij, B, n);
+int rows_select_avx2_one_type(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                              Utils::Vector3d const *pos, double cut2, std::array<int, 2> *bij, PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return rows_select_avx2<true>(row_start, pj, n_rows, c, limit, pos, nullptr, cut2_table, 1, bij, B);
 }
 
-/** rows_select_scalar<false> four listed pairs of a row at a time:
- * rows_select_avx2_one_type with the row's line of the cutoff table and the
- * partners' types (the padding indices are valid particles). */
-__attribute__((target("avx2"))) int rows_select_avx2_typed(int const *__restrict row_start,
-                                                           int const *__restrict pj, int n_rows, RowCursor &c,
-                                                           int limit, Utils::Vector3d const *__restrict pos,
-                                                           int const *__restrict typ,
-                                                           double const *__restrict cut2_table, int nt,
-                                                           std::array<int, 2> *__restrict bij, PairBlockSoA &B) {
-  int n = 0, i = c.i, k = c.k;
-  for (; i < n_rows; ++i) {
-    int const k1 = row_start[i + 1];
-    if (k >= k1)
-      continue;
-    __m256d const xi = _mm256_broadcast_sd(&pos[i][0]), yi = _mm256_broadcast_sd(&pos[i][1]),
-                  zi = _mm256_broadcast_sd(&pos[i][2]);
-    __m128i const iv = _mm_set1_epi32(i);
-    double const *const c2row = cut2_table + typ[i] * nt;
-    for (; k < k1; k += 4) {
-      if (n > limit) {
-        c = {i, k};
-        return n;
-      }
-      if ((k & 15) == 0)
-        __builtin_prefetch(pj + k + 256);
-      __m256d xj, yj, zj;
-      load4(pos, pj[k], pj[k + 1], pj[k + 2], pj[k + 3], xj, yj, zj);
-      __m256d const dx = _mm256_sub_pd(xi, xj), dy = _mm256_sub_pd(yi, yj), dz = _mm256_sub_pd(zi, zj);
-      __m256d const r2 =
-          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-      __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(pj + k));
-      __m256d const c2 = _mm256_setr_pd(c2row[typ[pj[k]]], c2row[typ[pj[k + 1]]], c2row[typ[pj[k + 2]]],
-                                        c2row[typ[pj[k + 3]]]);
-      int const rem = k1 - k;
-      int const m = _mm256_movemask_pd(_mm256_cmp_pd(r2, c2, _CMP_NGE_UQ)) & (rem >= 4 ? 15 : (1 << rem) - 1);
-      __m256i const perm = _mm256_load_si256(reinterpret_cast<__m256i const *>(kCompress.idx[m]));
-      __m256i const ij = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_unpacklo_epi32(iv, js)),
-                                                 _mm_unpackhi_epi32(iv, js), 1);
-      _mm256_storeu_si256(reinterpret_cast<__m256i *>(bij + n), _mm256_permutevar8x32_epi32(ij, perm));
-      _mm256_storeu_pd(B.dx + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dx), perm)));
-      _mm256_storeu_pd(B.dy + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dy), perm)));
-      _mm256_storeu_pd(B.dz + n, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dz), perm)));
-      n += std::popcount(static_cast<unsigned>(m));
-    }
-    k = k1;
-  }
-  c = {i, k};
-  return n;
+int select_avx2_typed(std::array<int, 2> const *blk, int nb, Utils::Vector3d const *pos, int const *typ,
+                      double const *cut2_table, int nt, std::array<int, 2> *bij, PairBlockSoA &B) {
+  return select_avx2<false>(blk, nb, pos, typ, cut2_table, nt, bij, B);
+}
+
+int rows_select_avx2_typed(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                           Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
+                           std::array<int, 2> *bij, PairBlockSoA &B) {
+  return rows_select_avx2<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, B);
 }
 
 /** gather_dpd_scalar four pairs at a time, with no branch: the records of
