@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -47,6 +48,20 @@ Scene make_scene(std::mt19937_64 &g, int n_part, int n_pairs) {
     }
   }
   return s;
+}
+
+/** A VerletPairs-style list: @p n_rows rows of partners j (empty rows, rows of
+ * 1-3 partners and long rows), padded by 4 valid indices. */
+std::pair<std::vector<int>, std::vector<int>> make_rows(std::mt19937_64 &g, int n_part, int n_rows) {
+  std::vector<int> row_start{0}, pj;
+  for (int i = 0; i < n_rows; ++i) {
+    int const len = static_cast<int>(g() % 4 == 0 ? g() % 4 : g() % 60);
+    for (int k = 0; k < len; ++k)
+      pj.push_back(static_cast<int>((i + 1 + g() % (n_part - 1)) % n_part));
+    row_start.push_back(static_cast<int>(pj.size()));
+  }
+  pj.insert(pj.end(), {0, 0, 0, 0});
+  return {row_start, pj};
 }
 
 } // namespace
@@ -158,14 +173,7 @@ TEST(PairSelect, RowPathsAgreeBitForBit) {
   int const n_part = 300;
   Scene const sc = make_scene(g, n_part, 0);
   for (int n_rows : {0, 1, 5, 120}) {
-    std::vector<int> row_start{0}, pj;
-    for (int i = 0; i < n_rows; ++i) {
-      int const len = static_cast<int>(g() % 4 == 0 ? g() % 4 : g() % 60);
-      for (int k = 0; k < len; ++k)
-        pj.push_back(static_cast<int>((i + 1 + g() % (n_part - 1)) % n_part));
-      row_start.push_back(static_cast<int>(pj.size()));
-    }
-    pj.insert(pj.end(), {0, 0, 0, 0});
+    auto const [row_start, pj] = make_rows(g, n_part, n_rows);
     double const cut2 = 1.2 * 1.2;
     std::vector<std::array<int, 2>> want;
     for (int i = 0; i < n_rows; ++i)
@@ -248,14 +256,7 @@ TEST(PairSelect, TypedPathsAgreeBitForBit) {
   }
   // the row select, resumed block by block
   for (int n_rows : {0, 1, 5, 120}) {
-    std::vector<int> row_start{0}, pj;
-    for (int i = 0; i < n_rows; ++i) {
-      int const len = static_cast<int>(g() % 4 == 0 ? g() % 4 : g() % 60);
-      for (int k = 0; k < len; ++k)
-        pj.push_back(static_cast<int>((i + 1 + g() % (n_part - 1)) % n_part));
-      row_start.push_back(static_cast<int>(pj.size()));
-    }
-    pj.insert(pj.end(), {0, 0, 0, 0});
+    auto const [row_start, pj] = make_rows(g, n_part, n_rows);
     std::vector<std::array<int, 2>> want;
     for (int i = 0; i < n_rows; ++i)
       for (int k = row_start[i]; k < row_start[i + 1]; ++k)
