@@ -64,6 +64,34 @@ std::pair<std::vector<int>, std::vector<int>> make_rows(std::mt19937_64 &g, int 
   return {row_start, pj};
 }
 
+/** Run a row select block by block from the start (@p select(c, limit, bij,
+ * B) returns the number stored), check each stored d = r_i - r_j bit for bit
+ * and return the selected pairs in order. */
+template <class Select>
+std::vector<std::array<int, 2>> collect_rows(Select &&select, Scene const &sc, int n_rows, int limit) {
+  std::vector<std::array<int, 2>> got;
+  Marble::RowCursor c;
+  auto B = std::make_unique<Marble::PairBlockSoA>();
+  std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
+  int guard = 0;
+  while (c.i < n_rows) {
+    int const n = select(c, limit, bij.data(), *B);
+    EXPECT_LE(n, limit + 4);
+    for (int s = 0; s < n; ++s) {
+      auto const [i, j] = bij[s];
+      EXPECT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0]));
+      EXPECT_TRUE(same_bits(B->dy[s], sc.pos[i][1] - sc.pos[j][1]));
+      EXPECT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2]));
+      got.push_back(bij[s]);
+    }
+    if (++guard > 100000) {
+      ADD_FAILURE() << "no progress";
+      break;
+    }
+  }
+  return got;
+}
+
 } // namespace
 
 TEST(PairSelect, PathsAgreeBitForBit) {
@@ -186,24 +214,10 @@ TEST(PairSelect, RowPathsAgreeBitForBit) {
       }
     for (auto const &path : Marble::pair_rows_select_paths())
       for (int limit : {0, 5, 192, Marble::kPairBlock - 4}) {
-        std::vector<std::array<int, 2>> got;
-        Marble::RowCursor c;
-        auto B = std::make_unique<Marble::PairBlockSoA>();
-        std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
-        int guard = 0;
-        while (c.i < n_rows) {
-          int const n = path.select(row_start.data(), pj.data(), n_rows, c, limit, sc.pos.data(), cut2, bij.data(), *B);
-          ASSERT_LE(n, limit + 4) << path.name;
-          for (int s = 0; s < n; ++s) {
-            auto const [i, j] = bij[s];
-            ASSERT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0])) << path.name;
-            ASSERT_TRUE(same_bits(B->dy[s], sc.pos[i][1] - sc.pos[j][1])) << path.name;
-            ASSERT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2])) << path.name;
-            got.push_back(bij[s]);
-          }
-          ASSERT_LT(++guard, 100000) << "no progress";
-        }
-        ASSERT_EQ(got, want) << path.name << " limit " << limit << " rows " << n_rows;
+        auto sel = [&](Marble::RowCursor &c, int lim, std::array<int, 2> *bij, Marble::PairBlockSoA &B) {
+          return path.select(row_start.data(), pj.data(), n_rows, c, lim, sc.pos.data(), cut2, bij, B);
+        };
+        ASSERT_EQ(collect_rows(sel, sc, n_rows, limit), want) << path.name << " limit " << limit << " rows " << n_rows;
       }
   }
 }
@@ -263,25 +277,10 @@ TEST(PairSelect, TypedPathsAgreeBitForBit) {
         if (in_range(i, pj[k]))
           want.push_back({i, pj[k]});
     auto run = [&](auto &&select, int limit) {
-      std::vector<std::array<int, 2>> got;
-      Marble::RowCursor c;
-      auto B = std::make_unique<Marble::PairBlockSoA>();
-      std::vector<std::array<int, 2>> bij(Marble::kPairBlock);
-      int guard = 0;
-      while (c.i < n_rows) {
-        int const n = select(row_start.data(), pj.data(), n_rows, c, limit, sc.pos.data(), typ.data(), cut2_table, nt,
-                             bij.data(), *B);
-        EXPECT_LE(n, limit + 4);
-        for (int s = 0; s < n; ++s) {
-          auto const [i, j] = bij[s];
-          EXPECT_TRUE(same_bits(B->dx[s], sc.pos[i][0] - sc.pos[j][0]));
-          EXPECT_TRUE(same_bits(B->dz[s], sc.pos[i][2] - sc.pos[j][2]));
-          got.push_back(bij[s]);
-        }
-        if (++guard > 100000)
-          break;
-      }
-      return got;
+      auto sel = [&](Marble::RowCursor &c, int lim, std::array<int, 2> *bij, Marble::PairBlockSoA &B) {
+        return select(row_start.data(), pj.data(), n_rows, c, lim, sc.pos.data(), typ.data(), cut2_table, nt, bij, B);
+      };
+      return collect_rows(sel, sc, n_rows, limit);
     };
     for (auto const &path : paths)
       for (int limit : {0, 5, 192, Marble::kPairBlock - 4})
