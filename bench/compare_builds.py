@@ -18,8 +18,10 @@ LAMMPS's in.lj (32 000 atoms), and the same paper solvent with one R = 3 marble
 colloid (bench/marble_overhead.py's scene: its cost relative to the bare
 solvent is the marble overhead). Two more cases, not run unless named in
 --cases: shardlow_a0_g5 and shardlow_marble, the paper solvent alone and with
-the marble under the Shardlow integrator at dt = 0.04 (the rate is also
-printed as CPU-s per tau: N / (rate dt)).
+the marble under the Shardlow integrator at dt = 0.04, and fig4: the scene
+of the paper's Fig. 4 as samples/marble_diffusion_vs_gamma.py --paper runs it
+(Shardlow at dt = 0.06 with 3 RESPA substeps, skin 0.6). For these the rate
+is also printed as CPU-s per tau: N / (rate dt).
 """
 import argparse
 import json
@@ -35,8 +37,12 @@ ROOT = os.path.dirname(HERE)
 CASES = ("dpd_a0_g5", "dpd_a25_g4.5", "lj", "marble")
 # not in the default set: the Shardlow integrator at dt = 0.04 (doc/speed-accuracy.md's choice for
 # the paper solvent) on the paper solvent alone and with the R = 3 marble (session 11)
-SHARDLOW_CASES = ("shardlow_a0_g5", "shardlow_marble")
+SHARDLOW_CASES = ("shardlow_a0_g5", "shardlow_marble", "fig4")
+# fig4: the scene of the paper's Fig. 4 as samples/marble_diffusion_vs_gamma.py --paper runs it
+# (colloid_runs.make_system: R = 3 marble, L = 20, gamma = 1, Shardlow dt = 0.06, 3 RESPA substeps,
+# skin 0.6; session 15)
 N_PARTICLES = {}  # case -> particle count of its last worker
+DT = {}  # case -> time step of its last worker
 
 
 def worker(case, steps):
@@ -51,6 +57,9 @@ def worker(case, steps):
         from bench_common import lj_fcc_system
         s = lj_fcc_system(20, rng)
         s.integrator.run(20)
+    elif case == "fig4":
+        from marble.colloid_runs import make_system
+        s, _, _ = make_system(20.0, 3.0, 1.0, 7, integrator="shardlow", warmup=3.0)
     else:
         L = 20.0
         n = int(3 * L ** 3)
@@ -109,6 +118,7 @@ def run_case(launcher, case, steps):
         raise RuntimeError(f"{launcher} imported marble from {res['module']}, not from its own build {build}: "
                            "is its Python package built (make marble_python)?")
     N_PARTICLES[case] = res.get("n")
+    DT[case] = res.get("dt")
     return res["rate"]
 
 
@@ -161,8 +171,8 @@ def main(argv=None):
         out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c],
                                round_ratios=rr)
         print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}")
-        if c in SHARDLOW_CASES:  # N / (rate dt): CPU-seconds per unit of time tau at dt = 0.04
-            tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * 0.04) for w in ("current", "baseline")}
+        if c in SHARDLOW_CASES:  # N / (rate dt): CPU-seconds per unit of time tau
+            tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * DT[c]) for w in ("current", "baseline")}
             out["cases"][c]["cpu_s_per_tau"] = tau
             print(f"{'':14s} CPU-s per tau: {tau['current']:.4f} (current), {tau['baseline']:.4f} (baseline)")
     if "marble" in cases and "dpd_a0_g5" in cases:

@@ -7,8 +7,9 @@ The companion of bench/fixed_seed_states.py (whose one Shardlow scene is Groot-W
 paths of integrators/shardlow.cpp's sweep (session 11, issue 15): the marble paper's solvent (a = 0,
 gamma = 5) at dt = 0.04, the same with an R = 2 marble, transverse DPD with two types, different cutoffs
 and unequal masses (the division path), colloids with surface friction, lubrication and contact forces
-and Lees-Edwards shear (the sweep's other updates), and a box smaller than twice the range (ghost images
-of one particle). Saves positions, velocities (and spins where they rotate) by particle id after a few
+and Lees-Edwards shear (the sweep's other updates), a box smaller than twice the range (ghost images
+of one particle), and the Fig. 4 step with RESPA substeps (with and without a colloid list that goes
+stale between substeps). Saves positions, velocities (and spins where they rotate) by particle id after a few
 dozen steps. With --compare, prints max |difference| per array and exits 1 unless all are exactly 0.
 A scene whose features are not compiled in is skipped (and said so).
 """
@@ -115,8 +116,26 @@ def scenes():
         s.integrator.run(40)
         state(s, out, "lees_edwards")
 
+    def respa(out):
+        """The Fig. 4 step (colloid_runs.make_system: Shardlow dt = 0.06, 3 RESPA substeps for the
+        marble's wall, skin 0.6; L = 12, R = 3), 60 steps; then 40 steps with the colloid pushed
+        at 8.5 every step, so that its pair list goes stale inside a step (a rebuild between
+        substeps: session 15's sweeps of the particles outside the list take the other path)."""
+        from marble.colloid_runs import make_system
+        s, c, _ = make_system(12.0, 3.0, 1.0, 5, integrator="shardlow", warmup=0.0)
+        s.integrator.run(60)
+        state(s, out, "respa")
+        n0 = s.cell_system.get_state()["verlet_rebuilds"]
+        for _ in range(40):
+            c.v = [8.5, 1.0, 0.0]
+            s.integrator.run(1)
+        n_mid = s.cell_system.get_state()["verlet_rebuilds"] - n0 - 40
+        print(f"respa: at least {max(n_mid, 0)} rebuilds between substeps in 40 steps")
+        state(s, out, "respa_stale")
+
     return [("paper", paper), ("marble", marble_scene), ("trans_masses", trans_masses),
-            ("small_box", small_box), ("colloids", colloids), ("lees_edwards", lees_edwards)]
+            ("small_box", small_box), ("colloids", colloids), ("lees_edwards", lees_edwards),
+            ("respa", respa)]
 
 
 def main():

@@ -35,7 +35,7 @@ struct ScanCase {
 };
 
 struct Built {
-  std::vector<int> row_start, j, ids;
+  std::vector<int> row_start, j, ids, inner_row_start, inner_j;
   std::vector<std::array<int, 2>> extra;
   std::vector<Vector3d> pos;
 };
@@ -58,6 +58,7 @@ Built build_with_path(ScanCase const &c, int path) {
   box.set_periodic(2, c.periodic_z);
   CellSystem cs;
   cs.set_skin(c.skin);
+  cs.set_inner_list(true);
   CellSystem::set_scan_path(path);
   // two rebuilds: the second starts from cell-sorted locals
   cs.rebuild(ps, box, c.cut);
@@ -72,6 +73,9 @@ Built build_with_path(ScanCase const &c, int path) {
   b.extra = l.extra;
   b.ids.assign(ps.id.begin(), ps.id.end());
   b.pos.assign(ps.pos.begin(), ps.pos.end());
+  EXPECT_TRUE(cs.inner_fresh());
+  b.inner_row_start = cs.select_pairs().row_start;
+  b.inner_j = cs.select_pairs().j;
   return b;
 }
 
@@ -101,8 +105,90 @@ TEST(CellsRebuild, ScanPathsGiveTheSameList) {
       EXPECT_EQ(b.row_start, ref.row_start) << "path " << path;
       EXPECT_EQ(b.j, ref.j) << "path " << path;
       EXPECT_EQ(b.extra, ref.extra) << "path " << path;
+      EXPECT_EQ(b.inner_row_start, ref.inner_row_start) << "path " << path;
+      EXPECT_EQ(b.inner_j, ref.inner_j) << "path " << path;
     }
   }
+}
+
+// The inner list of a rebuild (CellSystem::select_pairs, session 15): per
+// row, exactly the listed partners within the largest cutoff (to a relative
+// 1e-12), in list order, so the force loop's and the Shardlow sweep's
+// select gives the same pairs and the same d from it as from the whole list;
+// it ends with the positions of the build (update_ghosts, forget_inner).
+TEST(CellsRebuild, InnerListIsTheListWithinTheCutoff) {
+  ScanCase const cases[] = {
+      {{8., 8., 8.}, 1536, 1.0, 0.4, true},
+      {{6., 7., 5.}, 2000, 1.0, 0.6, false},
+      {{2.5, 3., 2.8}, 150, 1.0, 0.4, true},
+  };
+  int const best = [] {
+    CellSystem::set_scan_path(2);
+    int const b = CellSystem::scan_path();
+    CellSystem::set_scan_path(-1);
+    return b;
+  }();
+  for (auto const &c : cases)
+    for (int path = 0; path <= best; ++path) {
+      std::mt19937_64 rng(5);
+      std::uniform_real_distribution<double> u(0., 1.);
+      ParticleStore ps;
+      for (int k = 0; k < c.n; ++k) {
+        ParticleProperties p;
+        p.id = k;
+        p.pos = {u(rng) * c.box[0], u(rng) * c.box[1], u(rng) * c.box[2]};
+        ps.add(p);
+      }
+      // a partner at exactly the cutoff (r^2 == cut^2 is out of range: not in the inner list)
+      ps.pos[1] = ps.pos[0] + Vector3d{c.cut, 0., 0.};
+      BoxGeometry box;
+      box.set_length(c.box);
+      box.set_periodic(2, c.periodic_z);
+      CellSystem cs;
+      cs.set_skin(c.skin);
+      CellSystem::set_scan_path(path);
+      cs.rebuild(ps, box, c.cut); // not asked for: the whole list
+      EXPECT_FALSE(cs.inner_fresh());
+      EXPECT_EQ(&cs.select_pairs(), &cs.pairs());
+      std::vector<int> const j_without = cs.pairs().j;
+      cs.set_inner_list(true);
+      cs.rebuild(ps, box, c.cut);
+      CellSystem::set_scan_path(-1);
+      ASSERT_TRUE(cs.inner_fresh());
+      EXPECT_EQ(cs.pairs().j, j_without); // the list itself is the same either way
+      auto const &all = cs.pairs();
+      auto const &in = cs.select_pairs();
+      ASSERT_NE(&all, &in);
+      ASSERT_EQ(in.row_start.size(), all.row_start.size());
+      double const cut2 = c.cut * c.cut;
+      std::size_t n_in = 0, n_all_within = 0;
+      for (int i = 0; i + 1 < static_cast<int>(all.row_start.size()); ++i) {
+        std::vector<int> want;
+        for (int k = all.row_start[i]; k < all.row_start[i + 1]; ++k) {
+          int const j = all.j[k];
+          if ((ps.pos[i] - ps.pos[j]).norm2() < cut2 * (1. + 1e-12))
+            want.push_back(j);
+        }
+        std::vector<int> const got(in.j.begin() + in.row_start[i], in.j.begin() + in.row_start[i + 1]);
+        EXPECT_EQ(got, want) << "row " << i << " path " << path;
+        n_in += got.size();
+        n_all_within += want.size();
+      }
+      EXPECT_EQ(n_in, n_all_within);
+      EXPECT_GT(n_in, 0u);
+      EXPECT_LT(n_in, all.n_row_pairs()); // the skin's pairs are left out
+      EXPECT_EQ(in.j.size(), n_in + 4);   // padded like the list
+      cs.update_ghosts(ps);               // the positions may have changed: the whole list again
+      EXPECT_FALSE(cs.inner_fresh());
+      EXPECT_EQ(&cs.select_pairs(), &cs.pairs());
+      cs.rebuild(ps, box, c.cut);
+      EXPECT_TRUE(cs.inner_fresh());
+      cs.forget_inner();
+      EXPECT_EQ(&cs.select_pairs(), &cs.pairs());
+      cs.rebuild(ps, box, c.cut);
+      cs.invalidate();
+      EXPECT_FALSE(cs.inner_fresh());
+    }
 }
 
 TEST(CellsRebuild, PermuteKeepsUniformAndVaryingArrays) {

@@ -6,10 +6,13 @@
 // The split must not change a bit: the velocities after one sweep are
 // compared exactly, on a periodic scene with ghosts, two types, unequal masses,
 // a weight exponent k != 1, a cutoff that is not a power of two, and (with
-// TRANS_DPD) transverse friction alone and with the radial one.
+// TRANS_DPD) transverse friction alone and with the radial one. The OU
+// factors a = exp(-lambda dt) by the sweep's own exp (integrators/ou_exp.hpp,
+// within 1 ulp of std::exp; session 15), whose bits every path reproduces.
 #include "config/features.hpp"
 #include "forces/pair_traversal.hpp"
 #include "integrators/dpd_integrators.hpp"
+#include "integrators/ou_exp.hpp"
 #include "system/System.hpp"
 
 #include <gtest/gtest.h>
@@ -65,13 +68,13 @@ void reference_sweep(System &sys, std::vector<Vector3d> &v) {
       double const u = e * vij;
       Vector3d du{};
       if (w > 0. && p.radial.gamma > 0.) {
-        double const a = std::exp(-(p.radial.gamma * mfac * w * w * dt / mu));
+        double const a = Marble::exp_neg(-(p.radial.gamma * mfac * w * w * dt / mu));
         double const sd = std::sqrt(12. * (kT / mu) * (1. - a * a));
         du = ((a - 1.) * u + sd * (e * xi[s])) * e;
       }
 #ifdef TRANS_DPD
       if (wt > 0. && p.trans.gamma > 0.) {
-        double const a = std::exp(-(p.trans.gamma * mfac * wt * wt * dt / mu));
+        double const a = Marble::exp_neg(-(p.trans.gamma * mfac * wt * wt * dt / mu));
         double const sd = std::sqrt(12. * (kT / mu) * (1. - a * a));
         Vector3d const u_perp = vij - u * e;
         Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;

@@ -116,9 +116,14 @@ def block_mean_err(x, nblocks=20):
 def test_equipartition_at_large_gamma_dt():
     """A marble (R = 1.5) in a DPD solvent (rho = 3, gamma = 4.5, no conservative
     forces but the wall) with marble gamma = 50 at dt = 0.04: nu = gamma dt / m = 2
-    on the beads (velocity Verlet refuses this). The colloid's <M v^2>/3 and
-    <I w^2>/3 within 3 sigma of kT = 1, and within 6 % (the FDT of the exact update:
-    an explicit coupling at this nu is far off); momentum conserved."""
+    on the beads (velocity Verlet refuses this). The colloid's <M v^2>/3 within 3
+    sigma of kT (1 - M/M_total) = 0.958 (the total momentum is fixed at zero, which
+    takes the colloid's share M/M_total of one kT per axis: doc/suspensions.md 7c; the
+    test compared with kT = 1 until session 15, whose round-off-level change of the
+    Shardlow trajectories moved this seed's value to 0.945(17), 3.2 sigma below 1 and
+    0.8 below 0.958) and <I w^2>/3 within 3 sigma of kT = 1 (the box does not conserve
+    angular momentum), both within 6 % (the FDT of the exact update: an explicit
+    coupling at this nu is far off); momentum conserved."""
     from marble.colloids import add_marble
     L, dt = 7.0, 0.04
     s = marble.System(box_l=[L] * 3)
@@ -148,7 +153,8 @@ def test_equipartition_at_large_gamma_dt():
         kr.append(Ic * np.dot(w, w) / 3.0)
     P1 = np.sum(m[:, None] * np.asarray(p.v), axis=0)
     np.testing.assert_allclose(P1, P0, rtol=0, atol=1e-9 * n)
-    for name, x in (("translation", kt), ("rotation", kr)):
+    share = Mc / float(np.sum(m))
+    for name, x, want in (("translation", kt, 1.0 - share), ("rotation", kr, 1.0)):
         mean, err = block_mean_err(x)
-        assert abs(mean - 1.0) < max(3 * err, 1e-3), f"{name}: {mean} +- {err}"
+        assert abs(mean - want) < max(3 * err, 1e-3), f"{name}: {mean} +- {err}, expected {want}"
         assert err < 0.03, f"{name}: error {err} too large for the test to mean anything"

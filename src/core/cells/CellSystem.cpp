@@ -588,17 +588,29 @@ struct CandidateRange {
   int k0, k1;
 };
 
+/** The second output of a candidate scan: the partners within sqrt(@p inner2)
+ * (<= the range) appended to @p out from slot @p n, in the same order. */
+struct InnerOut {
+  double inner2;
+  int *out;
+  std::size_t n;
+};
+
 /** Append members[k] (the partner j of the pair (i, j)) for every candidate k
  * of @p ranges (in order) with |p_i - p_k|^2 < @p range2 to @p out from slot
  * @p n; returns the new count. Scalar/SSE2 form. The coordinate and member
  * arrays are padded by 4 slots. */
+template <bool Inner>
 std::size_t scan_candidates(double const *pi, double range2, CandidateRange const *ranges,
                             int n_ranges, double const *mx, double const *my, double const *mz,
-                            int const *members, int *out, std::size_t n) {
+                            int const *members, int *out, std::size_t n, InnerOut &in) {
 #ifdef __SSE2__
   __m128d const px = _mm_set1_pd(pi[0]), py = _mm_set1_pd(pi[1]), pz = _mm_set1_pd(pi[2]);
   __m128d const r2v = _mm_set1_pd(range2);
+  [[maybe_unused]] __m128d const i2v = _mm_set1_pd(in.inner2);
 #endif
+  [[maybe_unused]] int *const oin = in.out;
+  std::size_t m = in.n;
   for (int q = 0; q < n_ranges; ++q) {
     int k = ranges[q].k0;
     int const k1 = ranges[q].k1;
@@ -611,18 +623,31 @@ std::size_t scan_candidates(double const *pi, double range2, CandidateRange cons
       __m128d const d2 =
           _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
       int const mask = _mm_movemask_pd(_mm_cmplt_pd(d2, r2v));
+      [[maybe_unused]] int const mi = Inner ? _mm_movemask_pd(_mm_cmplt_pd(d2, i2v)) : 0;
       out[n] = members[k];
       n += static_cast<std::size_t>(mask & 1);
       out[n] = members[k + 1];
       n += static_cast<std::size_t>(mask >> 1);
+      if constexpr (Inner) {
+        oin[m] = members[k];
+        m += static_cast<std::size_t>(mi & 1);
+        oin[m] = members[k + 1];
+        m += static_cast<std::size_t>(mi >> 1);
+      }
     }
 #endif
     for (; k < k1; ++k) {
       double const dx = pi[0] - mx[k], dy = pi[1] - my[k], dz = pi[2] - mz[k];
+      double const d2 = dx * dx + dy * dy + dz * dz;
       out[n] = members[k];
-      n += (dx * dx + dy * dy + dz * dz < range2) ? 1 : 0;
+      n += (d2 < range2) ? 1 : 0;
+      if constexpr (Inner) {
+        oin[m] = members[k];
+        m += (d2 < in.inner2) ? 1 : 0;
+      }
     }
   }
+  in.n = m;
   return n;
 }
 
@@ -651,12 +676,16 @@ constexpr CompressTable kCompress{};
 /** scan_candidates with AVX2: four candidates per test (the same arithmetic:
  * (dx^2 + dy^2) + dz^2 < range2, no FMA), the pairs within range written by
  * one permuted store; a range's tail is masked (the arrays are padded). */
+template <bool Inner>
 __attribute__((target("avx2"))) std::size_t
 scan_candidates_avx2(double const *pi, double range2, CandidateRange const *ranges,
                      int n_ranges, double const *mx, double const *my, double const *mz,
-                     int const *members, int *out, std::size_t n) {
+                     int const *members, int *out, std::size_t n, InnerOut &in) {
   __m256d const px = _mm256_set1_pd(pi[0]), py = _mm256_set1_pd(pi[1]), pz = _mm256_set1_pd(pi[2]);
   __m256d const r2v = _mm256_set1_pd(range2);
+  [[maybe_unused]] __m256d const i2v = _mm256_set1_pd(in.inner2);
+  [[maybe_unused]] int *const oin = in.out;
+  std::size_t mn = in.n;
   for (int q = 0; q < n_ranges; ++q) {
     int const k1 = ranges[q].k1;
     for (int k = ranges[q].k0; k < k1; k += 4) {
@@ -666,14 +695,21 @@ scan_candidates_avx2(double const *pi, double range2, CandidateRange const *rang
       __m256d const d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                        _mm256_mul_pd(dz, dz));
       int const rem = k1 - k;
-      int const m = _mm256_movemask_pd(_mm256_cmp_pd(d2, r2v, _CMP_LT_OQ)) &
-                    (rem >= 4 ? 15 : (1 << rem) - 1);
+      int const tail = rem >= 4 ? 15 : (1 << rem) - 1;
+      int const m = _mm256_movemask_pd(_mm256_cmp_pd(d2, r2v, _CMP_LT_OQ)) & tail;
       __m128i const js = _mm_loadu_si128(reinterpret_cast<__m128i const *>(members + k));
       __m128i const perm = _mm_load_si128(reinterpret_cast<__m128i const *>(kCompress.perm[m]));
       _mm_storeu_si128(reinterpret_cast<__m128i *>(out + n), _mm_shuffle_epi8(js, perm));
       n += static_cast<std::size_t>(kCompress.count[m]);
+      if constexpr (Inner) {
+        int const mi = _mm256_movemask_pd(_mm256_cmp_pd(d2, i2v, _CMP_LT_OQ)) & tail;
+        __m128i const permi = _mm_load_si128(reinterpret_cast<__m128i const *>(kCompress.perm[mi]));
+        _mm_storeu_si128(reinterpret_cast<__m128i *>(oin + mn), _mm_shuffle_epi8(js, permi));
+        mn += static_cast<std::size_t>(kCompress.count[mi]);
+      }
     }
   }
+  in.n = mn;
   return n;
 }
 
@@ -683,12 +719,16 @@ scan_candidates_avx2(double const *pi, double range2, CandidateRange const *rang
  * which would round differently), the range's tail masked, the partners
  * within range compressed into one 256-bit store. The coordinate and member
  * arrays are padded by 8 slots, @p out has 8 slots of room past the pairs. */
+template <bool Inner>
 __attribute__((target("avx512f,avx512vl,bmi2,popcnt"))) std::size_t
 scan_candidates_avx512(double const *pi, double range2, CandidateRange const *ranges,
                        int n_ranges, double const *mx, double const *my, double const *mz,
-                       int const *members, int *out, std::size_t n) {
+                       int const *members, int *out, std::size_t n, InnerOut &in) {
   __m512d const px = _mm512_set1_pd(pi[0]), py = _mm512_set1_pd(pi[1]), pz = _mm512_set1_pd(pi[2]);
   __m512d const r2v = _mm512_set1_pd(range2);
+  [[maybe_unused]] __m512d const i2v = _mm512_set1_pd(in.inner2);
+  [[maybe_unused]] int *const oin = in.out;
+  std::size_t mn = in.n;
   for (int q = 0; q < n_ranges; ++q) {
     int const k1 = ranges[q].k1;
     for (int k = ranges[q].k0; k < k1; k += 8) {
@@ -704,8 +744,14 @@ scan_candidates_avx512(double const *pi, double range2, CandidateRange const *ra
       __m256i const js = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(members + k));
       _mm256_storeu_si256(reinterpret_cast<__m256i *>(out + n), _mm256_maskz_compress_epi32(m, js));
       n += static_cast<std::size_t>(_mm_popcnt_u32(m));
+      if constexpr (Inner) {
+        __mmask8 const mi = _mm512_mask_cmp_pd_mask(m, d2, i2v, _CMP_LT_OQ);
+        _mm256_storeu_si256(reinterpret_cast<__m256i *>(oin + mn), _mm256_maskz_compress_epi32(mi, js));
+        mn += static_cast<std::size_t>(_mm_popcnt_u32(mi));
+      }
     }
   }
+  in.n = mn;
   return n;
 }
 
@@ -746,6 +792,7 @@ int CellSystem::scan_path() { return g_scan_path < 0 ? best_scan_path() : g_scan
 void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   m_cell_start.clear();
   m_cell_members.clear();
+  m_inner_fresh = false;
   if (m_range <= 0.) {
     m_pairs.clear();
     return;
@@ -833,6 +880,24 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   }
   row.resize(static_cast<std::size_t>(n_small_local) + 1);
   row[0] = 0;
+  // The inner list (select_pairs): the partners within the largest cutoff
+  // (a hair above it: a superset of what any select keeps; never above the
+  // range, so a subset of the list, in its order). Same size as the list.
+  // Only where asked for (set_inner_list: the Shardlow integrator, whose
+  // list lives ~2 steps; at velocity Verlet's ~5 its second store does not pay).
+  double const inner2 = std::min(m_inner_cut * m_inner_cut * (1. + 1e-12), range2);
+  bool const want_inner = m_inner_wanted && inner2 < range2;
+  auto &ij = m_inner.j;
+  auto &irow = m_inner.row_start;
+  InnerOut inner{inner2, nullptr, 0};
+  if (want_inner) {
+    irow.resize(row.size());
+    irow[0] = 0;
+    if (ij.size() < pj.size())
+      ij.resize(pj.size());
+  } else {
+    m_inner.clear();
+  }
   // Per cell, the candidate slots as items in list order: a row (dz, dy) of
   // three cells whose slots are contiguous (kRow: [a0, b0) [b0, b1) [b1, c1)),
   // i's own row from the slot after i (kOwn: [i+1, b1) [b1, c1)), or one cell
@@ -889,6 +954,11 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
     for (int i = i_begin; i < i_end; ++i) {
       if (pj.size() < n_pairs + max_cand + kPad)
         pj.resize(2 * pj.size() + max_cand + kPad);
+      if (want_inner) {
+        if (ij.size() < inner.n + max_cand + kPad)
+          ij.resize(2 * ij.size() + max_cand + kPad);
+        inner.out = ij.data();
+      }
       Vector3d const pi = ps.pos[i];
       int const self_next = start[ci] + (i - i_begin) + 1; // own cell: the slots after i
       // squared distances to the near faces of the neighbours at -1, 0, +1
@@ -918,23 +988,31 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
         hi -= cut_row * (hi - lo);
         kept[n_kept++] = {lo, hi};
       }
+      auto scan = [&]<bool Inner>() {
 #ifdef MARBLE_CELLS_AVX2
-      if (path == 2)
-        n_pairs = scan_candidates_avx512(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
-                                         mz.data(), members.data(), pj.data(), n_pairs);
-      else if (path == 1)
-        n_pairs = scan_candidates_avx2(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
-                                       mz.data(), members.data(), pj.data(), n_pairs);
-      else
+        if (path == 2)
+          return scan_candidates_avx512<Inner>(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                               mz.data(), members.data(), pj.data(), n_pairs, inner);
+        if (path == 1)
+          return scan_candidates_avx2<Inner>(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                             mz.data(), members.data(), pj.data(), n_pairs, inner);
 #endif
-        n_pairs = scan_candidates(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
-                                  mz.data(), members.data(), pj.data(), n_pairs);
+        return scan_candidates<Inner>(pi.data(), range2, kept.data(), n_kept, mx.data(), my.data(),
+                                      mz.data(), members.data(), pj.data(), n_pairs, inner);
+      };
+      n_pairs = want_inner ? scan.template operator()<true>() : scan.template operator()<false>();
       row[static_cast<std::size_t>(i) + 1] = static_cast<int>(n_pairs);
+      if (want_inner)
+        irow[static_cast<std::size_t>(i) + 1] = static_cast<int>(inner.n);
     }
     i_begin = i_end;
   }
   pj.resize(n_pairs + kListPad); // padded by valid indices for SIMD reads past a row
   std::fill(pj.end() - kListPad, pj.end(), 0);
+  if (want_inner) {
+    ij.resize(inner.n + kListPad);
+    std::fill(ij.end() - kListPad, ij.end(), 0);
+  }
   members.resize(static_cast<std::size_t>(n_members));
   // A pair with another rank's particle is computed by the rank owning the
   // smaller id, but only for large-range particles and colloid copies (they
@@ -947,6 +1025,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
       int const o = ps.ghost_owner[g - n_local];
       filter = o == kRemoteColloidGhost || (o == kRemoteGhost && any_wide && wide(ps.type[g]));
     }
+  // (the inner list is not filtered: with such ghosts select_pairs() is the list)
+  bool const inner_ok = want_inner && !filter;
   if (filter) {
     std::size_t w = 0;
     for (int i = 0; i < n_small_local; ++i) {
@@ -964,6 +1044,8 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   }
   if (any_wide)
     build_wide_pairs(ps, box, n_small_local, ghost_begin);
+  // (the pairs with large-range particles are not pruned: with any, select_pairs() is the list)
+  m_inner_fresh = inner_ok && m_pairs.extra.empty();
 }
 
 // Pairs with large-range particles, appended after the solvent-grid pairs:
@@ -1094,6 +1176,8 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
           std::to_string(d) + ": reduce the cutoff or enlarge the box");
   ps.clear_ghosts();
   m_range = range;
+  m_inner_cut = max_cut > 0. ? max_cut : 0.;
+  m_inner_fresh = false;
   m_le = box.lees_edwards();
   if (!m_le.active()) {
     // a coordinate in [0, 0.9999999 L) is left as it is by fold (its
@@ -1215,6 +1299,7 @@ void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
 }
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {
+  m_inner_fresh = false; // the positions are no longer those of the build
   if (m_le_images) { // Lees-Edwards images (one rank): moved with the offset, velocity jump
     int const ds = m_le.shear_direction, nl = ps.n_local();
     double const doff = m_le.pos_offset - m_le_offset_at_build, vs = m_le.shear_velocity;

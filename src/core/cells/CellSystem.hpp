@@ -116,7 +116,10 @@ public:
   }
   double range() const { return m_range; }
   bool valid() const { return m_valid; }
-  void invalidate() { m_valid = false; }
+  void invalidate() {
+    m_valid = false;
+    m_inner_fresh = false;
+  }
 
   /** Fold, migrate, sort, make ghosts, build the pair list for pair range
    * @p max_cut. Collective. */
@@ -192,6 +195,22 @@ public:
   std::pair<Utils::Vector3d, Utils::Vector3d> local_domain(BoxGeometry const &box) const;
 
   VerletPairs const &pairs() const { return m_pairs; }
+  /** The list for a consumer that selects the pairs within their cutoff
+   * (every cutoff <= the rebuild's max_cut): right after a rebuild, at the
+   * positions of the build, the rows hold only the pairs within max_cut
+   * (written by the rebuild's candidate scan, which computes those distances
+   * anyway; their order is that of pairs(), so a select gives the same pairs
+   * in the same order); at any other time pairs(). update_ghosts (every
+   * force computation that does not rebuild) and forget_inner() end it. */
+  VerletPairs const &select_pairs() const { return m_inner_fresh ? m_inner : m_pairs; }
+  /** Whether rebuilds write the inner list (default off: select_pairs() is
+   * then pairs()); System turns it on for the Shardlow integrator. */
+  void set_inner_list(bool on) { m_inner_wanted = on; }
+  /** Whether select_pairs() is the build's inner list (tests). */
+  bool inner_fresh() const { return m_inner_fresh; }
+  /** Positions changed without update_ghosts or rebuild (e.g. put back after a
+   * rebuild at other positions): select_pairs() is pairs() again. */
+  void forget_inner() const { m_inner_fresh = false; }
 
   /** Visit every local particle index whose cell overlaps the sphere of
    * @p radius around @p center (a superset of the particles within radius).
@@ -300,6 +319,12 @@ private:
   long m_n_rebuilds = 0;
   std::array<int, 3> m_n_cells{1, 1, 1};
   VerletPairs m_pairs;
+  // the pairs of m_pairs within the rebuild's max_cut at the build's positions
+  // (rows only; extra as in m_pairs) and whether they are still those positions
+  VerletPairs m_inner;
+  mutable bool m_inner_fresh = false;
+  double m_inner_cut = 0.; // the rebuild's max_cut
+  bool m_inner_wanted = false;
   Grid m_grid;
   std::vector<int> m_cell_start, m_cell_members; // all particles (locals + ghosts) by cell
   // rebuild scratch, kept between rebuilds (no allocation or page faults per rebuild)

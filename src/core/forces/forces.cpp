@@ -54,8 +54,14 @@ std::vector<Rec4> &vel4_buffer() {
   return buf;
 }
 
-void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
-                    NoiseContext const &th, SimdPairParams const &sp) {
+void pair_loop_simd(ParticleStore &ps, PairList const &all_pairs, PairList const &inner_pairs,
+                    InteractionTable const &ia, NoiseContext const &th, SimdPairParams const &sp) {
+  // Right after a rebuild the inner list (CellSystem::select_pairs) holds the
+  // same selected pairs in the same order with fewer listed pairs to test. It
+  // changes where the blocks end, which changes no bit of the pairs scatter
+  // (f_i += f pair by pair) but would of the run sums of long rows (LJ at
+  // r_c = 2.5): those scenes keep the full list.
+  PairList const &pairs = sp.lj == 0 ? inner_pairs : all_pairs;
   auto const *__restrict const pos = ps.pos.data();
   auto const *__restrict const pid = ps.id.data();
   // forces summed in 32-byte records (zero on entry: the same additions onto
@@ -145,14 +151,16 @@ void pair_loop_simd(ParticleStore &ps, PairList const &pairs, InteractionTable c
 }
 
 template <unsigned Mask>
-void pair_loop(ParticleStore &ps, PairList const &pairs, InteractionTable const &ia,
+void pair_loop(ParticleStore &ps, PairList const &pairs, PairList const &inner_pairs, InteractionTable const &ia,
                NoiseContext const &th) {
   // kernels of the mask active only on pairs the list does not serve (e.g.
   // colloid pairs) do not keep a scene from the SIMD form
   if constexpr ((Mask & simd_kernels()) != 0) {
     SimdPairParams sp;
     if (simd_scene_params(ia, Mask, sp))
-      return pair_loop_simd(ps, pairs, ia, th, sp); // writes every force
+      return pair_loop_simd(ps, pairs, inner_pairs, ia, th, sp); // writes every force
+  } else {
+    (void)inner_pairs;
   }
   for (auto &f : ps.f)
     f = {};
@@ -201,7 +209,8 @@ bool mask_acts_on_list(InteractionTable const &ia, unsigned mask) {
   return any;
 }
 
-using LoopFn = void (*)(ParticleStore &, PairList const &, InteractionTable const &, NoiseContext const &);
+using LoopFn = void (*)(ParticleStore &, PairList const &, PairList const &, InteractionTable const &,
+                        NoiseContext const &);
 
 template <std::size_t... M> constexpr std::array<LoopFn, sizeof...(M)> make_loops(std::index_sequence<M...>) {
   return {&pair_loop<static_cast<unsigned>(M)>...};
@@ -224,7 +233,7 @@ void System::compute_forces(bool with_thermostat) {
   if (!th.on || !m_dpd_in_pair_loop)
     mask &= ~pair_kernels_with_role<KernelRole::pair_dissipative>();
   if (mask_acts_on_list(m_ia, mask))
-    loops[mask](m_ps, m_cells.pairs(), m_ia, th);
+    loops[mask](m_ps, m_cells.pairs(), m_cells.select_pairs(), m_ia, th);
   else // e.g. a DPD-only solvent under Shardlow: the loop would add only zeros
     for (auto &f : m_ps.f)
       f = {};
@@ -245,14 +254,26 @@ void System::compute_forces(bool with_thermostat) {
 
 void System::compute_fast_forces() {
   int const n = m_ps.n_local();
-  m_f_fast.assign(static_cast<std::size_t>(m_ps.size()), Vector3d{});
+  // Outside the colloid pairs' particles the fast force is zero: after the
+  // first call since a list rebuild only those are reset (and checked)
+  bool partial = false;
+#ifdef MARBLE
+  partial = m_colloids.any() && !m_comm.parallel() && m_f_fast.size() == static_cast<std::size_t>(n) &&
+            m_f_fast_rebuild == m_cells.n_rebuilds();
+#endif
+  if (partial) {
+    for_each_fast_member([&](int i) { m_f_fast[i] = Vector3d{}; });
+  } else {
+    m_f_fast.assign(static_cast<std::size_t>(m_ps.size()), Vector3d{});
+    m_f_fast_rebuild = m_cells.n_rebuilds();
+  }
 #ifdef MARBLE
   if (m_colloids.any())
     m_colloids.add_conservative_forces(m_ps, m_ia, m_f_fast);
 #endif
   m_f_fast.resize(static_cast<std::size_t>(n)); // one rank: the colloid pairs hold locals only
   double const big = std::numeric_limits<double>::max();
-  for (int i = 0; i < n; ++i) {
+  auto check = [&](int i) {
     auto const &v = m_f_fast[i];
     if (!(std::abs(v[0]) <= big && std::abs(v[1]) <= big && std::abs(v[2]) <= big)) {
       m_forces_valid = false;
@@ -262,7 +283,8 @@ void System::compute_fast_forces() {
           ": likely cause: overlapping particles or a time step too large for the interactions; "
           "reduce time_step or raise the integrator's substeps");
     }
-  }
+  };
+  for_each_fast_member(check);
 }
 
 void System::check_forces_finite() const {

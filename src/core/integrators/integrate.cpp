@@ -355,10 +355,9 @@ int System::run_md(int n_steps) {
 // F_s = f - F_f again. One MPI rank (check_scene_before_run).
 
 void System::kick_fast(double kick_dt) {
-  int const n = m_ps.n_local();
   auto *const v = m_ps.v.data();
   auto const *const f = m_f_fast.data();
-  for (int i = 0; i < n; ++i) {
+  for_each_fast_member([&](int i) {
     double const a = kick_dt / m_ps.get_mass(i);
     if (!m_ps.has_fixed(i)) {
       for (int d = 0; d < 3; ++d)
@@ -367,7 +366,7 @@ void System::kick_fast(double kick_dt) {
       for (int d = 0; d < 3; ++d)
         v[i][d] = m_ps.is_fixed(i, d) ? 0. : v[i][d] + a * f[i][d];
     }
-  }
+  });
 }
 
 bool System::drift_checked_substep(double kick_dt, double h) {
@@ -425,6 +424,152 @@ bool System::drift_checked_substep(double kick_dt, double h) {
   return std::sqrt(dmax2) + std::sqrt(dcol2) >= skin;
 }
 
+// The substeps of one RESPA step, the particles outside the colloid pair list
+// apart: their fast force is zero, so each substep is v += (kick_dt/m) 0,
+// x += h v (kick_drift_of with f = 0) and nothing in the substeps depends on
+// their positions (the fast forces act within the list), except the list's
+// staleness test. Their n substeps are therefore checked in one sweep (the
+// largest displacement since the build after each substep, for that test)
+// and done in another, with the arithmetic of drift_checked_substep in the
+// same order per particle: the same bits. The list's particles (a few
+// hundred) go substep by substep between fast force evaluations, as before.
+// If the list goes stale before the last substep the others are brought to
+// that substep first, and the caller does the remaining substeps with the
+// full sweeps (drift_checked_substep). Refused steps: a bad displacement of
+// an outside particle in any substep refuses the step before any substep is
+// done; one of a list particle, before its substep (as drift_checked_substep).
+int System::respa_member_substeps(double h) {
+#ifdef MARBLE
+  int const n_sub = m_substeps;
+  constexpr int kMaxSub = 64;
+  if (!m_colloids.any() || m_comm.parallel() || n_sub > kMaxSub)
+    return 0;
+  auto const &members = m_colloids.pair_members();
+  int const n = m_ps.n_local();
+  double const skin = m_cells.skin();
+  double const max2 = skin * skin;
+  double const lim2 = 0.25 * skin * skin;
+  auto *const v = m_ps.v.data();
+  auto *const x = m_ps.pos.data();
+  auto const *const f = m_f_fast.data();
+  auto const *const x0 = m_ps.pos_at_rebuild.data();
+  Vector3d const zero{};
+  auto kick_dt_of = [h](int k) { return k == 0 ? 0.5 * h : h; };
+  // An outside particle's kick factor a = kick_dt / m multiplies a zero
+  // force: a * 0 = +0 for any finite a > 0, so for any mass whose a cannot
+  // overflow 1 does as well as the division (the same bits, no divider)
+  auto a_out = [&](double m, int k) { return m >= 1e-290 ? 1. : kick_dt_of(k) / m; };
+  // the outside particles: i in [lo, hi) between members
+  auto for_each_outside = [&](auto &&fn) {
+    int lo = 0;
+    for (std::size_t q = 0; q <= members.size(); ++q) {
+      int const hi = q < members.size() ? std::min(members[q], n) : n;
+      for (int i = lo; i < hi; ++i)
+        fn(i);
+      lo = std::max(lo, hi + 1);
+    }
+  };
+  // (1) check: per substep the largest displacement since the build (all
+  // outside particles, and the outside colloids), the last one's half-skin test
+  std::array<double, kMaxSub> dmax2_out{}, dcol2_out{};
+  bool moved_out = false;
+  int bad = -1;
+  double bad_disp2 = 0.;
+  for_each_outside([&](int i) {
+    if (bad >= 0)
+      return;
+    Vector3d vi = v[i], xi = x[i];
+    double const m = m_ps.get_mass(i);
+    bool const col = m_colloids.is_colloid_type(m_ps.type[i]);
+    for (int k = 0; k < n_sub; ++k) {
+      Vector3d dv, dx;
+      kick_drift_of(m_ps, i, a_out(m, k), zero, vi, h, dv, dx);
+      double const disp2 = dx.norm2();
+      if (!(disp2 <= max2)) { // also catches NaN
+        bad = i;
+        bad_disp2 = disp2;
+        return;
+      }
+      double const dd2 = (xi + dx - x0[i]).norm2();
+      dmax2_out[k] = std::max(dmax2_out[k], dd2);
+      if (col)
+        dcol2_out[k] = std::max(dcol2_out[k], dd2);
+      if (k + 1 == n_sub)
+        moved_out |= dd2 > lim2;
+      vi += dv;
+      xi += dx;
+    }
+  });
+  if (m_comm.max(bad >= 0 ? 2 : 0) == 2)
+    refuse_step(bad, bad_disp2, h, n_sub);
+  // the outside particles' substeps [k0, k1)
+  auto advance_outside = [&](int k0, int k1) {
+    for_each_outside([&](int i) {
+      double const m = m_ps.get_mass(i);
+      for (int k = k0; k < k1; ++k) {
+        Vector3d dv, dx;
+        kick_drift_of(m_ps, i, a_out(m, k), zero, v[i], h, dv, dx);
+        v[i] += dv;
+        x[i] += dx;
+      }
+    });
+  };
+  // (2) the list's particles, substep by substep
+  for (int k = 0; k < n_sub; ++k) {
+    double const kick_dt = kick_dt_of(k);
+    double dmax2 = dmax2_out[k], dcol2 = dcol2_out[k];
+    bool moved = false;
+    for (int i : members) {
+      if (i >= n)
+        break;
+      Vector3d dv, dx;
+      kick_drift_of(m_ps, i, kick_dt / m_ps.get_mass(i), f[i], v[i], h, dv, dx);
+      double const disp2 = dx.norm2();
+      if (!(disp2 <= max2)) {
+        bad = i;
+        bad_disp2 = disp2;
+        break;
+      }
+      double const dd2 = (x[i] + dx - x0[i]).norm2();
+      moved |= dd2 > lim2;
+      dmax2 = std::max(dmax2, dd2);
+      if (m_colloids.is_colloid_type(m_ps.type[i]))
+        dcol2 = std::max(dcol2, dd2);
+    }
+    bool const last = k + 1 == n_sub;
+    int const vote = m_comm.max(bad >= 0 ? 2 : ((moved || (last && moved_out)) ? 1 : 0));
+    if (vote == 2) {
+      advance_outside(0, k); // the substeps before the refused one stay done
+      refuse_step(bad, bad_disp2, h, n_sub);
+    }
+    for (int i : members) {
+      if (i >= n)
+        break;
+      Vector3d dv, dx;
+      kick_drift_of(m_ps, i, kick_dt / m_ps.get_mass(i), f[i], v[i], h, dv, dx);
+      v[i] += dv;
+      x[i] += dx;
+    }
+    m_displacement_hint = vote;
+    if (last)
+      break;
+    if (std::sqrt(dmax2) + std::sqrt(dcol2) >= skin) { // the colloid list is stale
+      advance_outside(0, k + 1);
+      m_displacement_hint = 1;
+      ensure_lists(); // rebuild (the pairs of the colloid list too)
+      compute_fast_forces();
+      return k + 1;
+    }
+    compute_fast_forces();
+  }
+  advance_outside(0, n_sub);
+  return n_sub;
+#else
+  (void)h;
+  return 0;
+#endif
+}
+
 int System::run_md_respa(int n_steps) {
   if (m_time_step <= 0.)
     throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
@@ -456,10 +601,10 @@ int System::run_md_respa(int n_steps) {
     try {
       // the outer half kick with F_s = f - F_f (and the slow torques)
       n = m_ps.n_local();
-      for (int i = 0; i < n; ++i)
-        m_ps.f[i] -= m_f_fast[i];
+      for_each_fast_member([&](int i) { m_ps.f[i] -= m_f_fast[i]; }); // (F_fast is 0 elsewhere)
       kick(0.5 * dt);
-      for (int k = 0; k < n_sub; ++k) {
+      int k = have_fast ? respa_member_substeps(h) : 0; // (all n_sub, or up to a mid-step rebuild)
+      for (; k < n_sub; ++k) {
         // the inner half kicks of substeps k - 1 and k in one
         bool const colloid_list_stale = drift_checked_substep(k == 0 ? 0.5 * h : h, h);
         // (without fast forces nothing is evaluated between the substeps: the
@@ -500,9 +645,8 @@ int System::run_md_respa(int n_steps) {
     if (shardlow_sweep_active())
       shardlow_sweep(*this);
 #endif
-    n = m_ps.n_local();
-    for (int i = 0; i < n; ++i)
-      m_ps.f[i] += m_f_fast[i]; // particle.f: all forces, as with substeps = 1
+    // particle.f: all forces, as with substeps = 1
+    for_each_fast_member([&](int i) { m_ps.f[i] += m_f_fast[i]; });
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);

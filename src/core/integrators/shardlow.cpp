@@ -31,6 +31,7 @@
 #include "integrators/dpd_integrators.hpp"
 #include "forces/pair_simd.hpp"
 #include "forces/pair_traversal.hpp"
+#include "integrators/ou_exp.hpp"
 #include "integrators/stability.hpp"
 #include "nonbonded/surface_friction_apply.hpp"
 #include "thermostats/ou_step.hpp"
@@ -222,7 +223,8 @@ void shardlow_sweep(System &sys) {
   bool const any_lub = ia.any_active<Lubrication>();
 #endif
   auto const soa = std::make_unique<PairBlockSoA>();
-  for_each_selected_block(ps, sys.cells().pairs(), ia, *soa, [&](PairBlock const &b, PairBlockSoA const &D) {
+  // (select_pairs: right after a rebuild, the pairs within the largest cutoff only)
+  for_each_selected_block(ps, sys.cells().select_pairs(), ia, *soa, [&](PairBlock const &b, PairBlockSoA const &D) {
     // the noise of the block's pairs (independent draws the CPU overlaps)
     if (kT > 0.)
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
@@ -287,16 +289,25 @@ void shardlow_sweep(System &sys) {
       }
       B.flags[s] = f;
     }
-    // the OU factors (struct OU, in separate loops: the exponentials of
-    // independent pairs overlap, and so do the square roots after them)
+    // the OU factors a = exp(-lambda dt) (struct OU, in separate loops: the
+    // exponentials of a block 4 at a time, integrators/ou_exp.hpp, within
+    // 1 ulp of std::exp; the square roots after them overlap). Pairs
+    // without the friction get exp(0), unused.
+    unsigned any_flags = 0;
     for (int s = 0; s < b.size; ++s) {
-      if (B.flags[s] & SweepBlock::radial)
-        B.ar[s] = std::exp(-B.ar[s]);
+      unsigned const f = B.flags[s];
+      any_flags |= f;
+      B.ar[s] = (f & SweepBlock::radial) ? -B.ar[s] : 0.;
 #ifdef TRANS_DPD
-      if (B.flags[s] & SweepBlock::trans)
-        B.at[s] = std::exp(-B.at[s]);
+      B.at[s] = (f & SweepBlock::trans) ? -B.at[s] : 0.;
 #endif
     }
+    if (any_flags & SweepBlock::radial)
+      exp_neg_block(B.ar.data(), B.ar.data(), b.size);
+#ifdef TRANS_DPD
+    if (any_flags & SweepBlock::trans)
+      exp_neg_block(B.at.data(), B.at.data(), b.size);
+#endif
     for (int s = 0; s < b.size; ++s) {
       unsigned const f = B.flags[s];
       if (f & SweepBlock::radial) {

@@ -31,8 +31,20 @@ void Colloids::set_types(std::vector<char> const &is_colloid) {
 void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
                        InteractionTable const &ia) {
   m_pairs.clear();
+  m_members.clear();
   if (!m_any)
     return;
+  find_pairs(ps, box, cells, ia);
+  for (auto const &pr : m_pairs)
+    for (int k : {pr.colloid, pr.other})
+      if (k < ps.n_local())
+        m_members.push_back(k);
+  std::sort(m_members.begin(), m_members.end());
+  m_members.erase(std::unique(m_members.begin(), m_members.end()), m_members.end());
+}
+
+void Colloids::find_pairs(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
+                          InteractionTable const &ia) {
   int const n_local = ps.n_local();
   int const nt = ia.n_types();
   double const skin = cells.skin();

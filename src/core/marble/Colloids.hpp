@@ -59,8 +59,14 @@ public:
   /** Empty if fine, else a message naming a colloid that cannot take torque. */
   std::string check_rotation(ParticleStore const &ps, InteractionTable const &ia) const;
   std::size_t n_pairs() const { return m_pairs.size(); }
+  /** The local indices of every particle of a colloid pair (colloids and
+   * partners), ascending, as of the last rebuild: outside them the colloid
+   * pairs' forces are zero (RESPA's substeps need only these). */
+  std::vector<int> const &pair_members() const { return m_members; }
 
 private:
+  void find_pairs(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
+                  InteractionTable const &ia);
   template <class Fn>
   void for_each_pair_force(ParticleStore const &ps, InteractionTable const &ia, NoiseContext const &noise,
                            Fn &&fn, bool with_marble = true) const;
@@ -71,6 +77,7 @@ private:
   bool m_any = false;
   std::vector<char> m_is_colloid;
   std::vector<Pair> m_pairs;
+  std::vector<int> m_members;
 };
 
 } // namespace Marble

@@ -209,6 +209,8 @@ void System::ensure_lists() {
   m_displacement_hint = -1;
   if (!m_cells.valid() || cut != m_cut_at_rebuild ||
       (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps))) {
+    // the inner list pays where lists live ~2 steps (Shardlow at its large dt; doc/benchmarks.md, session 15)
+    m_cells.set_inner_list(m_integrator == IntegratorKind::Shardlow);
     m_cells.rebuild(m_ps, m_box, configure_large_range(cut));
     m_cut_at_rebuild = cut;
 #ifdef MARBLE
@@ -258,6 +260,7 @@ void System::rebuild_lists_at_saved_positions() {
     by_id[static_cast<std::size_t>(ids[i])] = current[i];
   for (int i = 0; i < m_ps.n_local(); ++i)
     m_ps.pos[i] = by_id[static_cast<std::size_t>(m_ps.id[i])];
+  m_cells.forget_inner(); // (built at other positions)
   m_cells.update_ghosts(m_ps);
 }
 

@@ -303,6 +303,14 @@ private:
   bool drift_checked_substep(double kick_dt, double h);
   /** v += kick_dt F_fast/m of the locals (fixed components: v = 0). */
   void kick_fast(double kick_dt);
+  /** fn(i) for every local whose fast force may be non-zero: the particles
+   * of the colloid pair list (one rank), else every local. */
+  template <class Fn> void for_each_fast_member(Fn &&fn) const;
+  /** RESPA's substeps with the particles outside the colloid pair list done
+   * in two sweeps for all substeps (integrate.cpp); returns the number of
+   * substeps done: all, or those up to a colloid list that went stale (the
+   * caller does the rest with drift_checked_substep). */
+  int respa_member_substeps(double h);
   /** The refusal of drift_checked: the collective message and throw. */
   [[noreturn]] void refuse_step(int bad, double bad_disp2, double step_len, int n_sub);
   /** Some auto-update accumulator updates at the current step. */
@@ -320,6 +328,7 @@ private:
   /** RESPA: compute_forces leaves the fast forces out (run_md_respa). */
   bool m_exclude_fast = false;
   std::vector<Utils::Vector3d> m_f_fast;
+  long m_f_fast_rebuild = -1; // the list rebuild m_f_fast was zeroed at (compute_fast_forces)
   double m_time_step = -1.;
   double m_time = 0.;
   std::uint64_t m_step = 0;
@@ -347,5 +356,19 @@ private:
   Colloids m_colloids;
 #endif
 };
+
+template <class Fn> void System::for_each_fast_member(Fn &&fn) const {
+#ifdef MARBLE
+  if (m_colloids.any() && !m_comm.parallel()) {
+    int const n = m_ps.n_local();
+    for (int i : m_colloids.pair_members())
+      if (i < n)
+        fn(i);
+    return;
+  }
+#endif
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    fn(i);
+}
 
 } // namespace Marble
