@@ -589,7 +589,6 @@ int System::run_md_respa(int n_steps) {
   int const n_sub = m_substeps;
   double const dt = m_time_step;
   double const h = dt / n_sub;
-  int n = m_ps.n_local();
 #ifdef MARBLE
   bool const have_fast = m_colloids.any();
 #else
@@ -600,7 +599,6 @@ int System::run_md_respa(int n_steps) {
   for (int s = 0; s < n_steps; ++s) {
     try {
       // the outer half kick with F_s = f - F_f (and the slow torques)
-      n = m_ps.n_local();
       for_each_fast_member([&](int i) { m_ps.f[i] -= m_f_fast[i]; }); // (F_fast is 0 elsewhere)
       kick(0.5 * dt);
       int k = have_fast ? respa_member_substeps(h) : 0; // (all n_sub, or up to a mid-step rebuild)
