@@ -58,6 +58,43 @@ inline void kick_drift_of(ParticleStore const &ps, int i, double a, Vector3d con
     dx[d] = fx ? 0. : h * (v[d] + dv[d]);
   }
 }
+
+/** RESPA: the kick length of inner substep @p k of length @p h (the inner
+ * half kicks of substeps k - 1 and k in one). */
+inline double inner_kick_dt(int k, double h) { return k == 0 ? 0.5 * h : h; }
+
+/** What a RESPA substep's check gathers over the locals given to it: the
+ * first refusal (a displacement beyond the skin, or not finite), the main
+ * list's half-skin test, and the largest displacements since the build of any
+ * of them and of a colloid (the colloid list's staleness test). */
+struct SubstepTally {
+  double max2, lim2; // skin^2, (skin/2)^2
+  int bad = -1;
+  double bad_disp2 = 0.;
+  bool moved = false;
+  double dmax2 = 0., dcol2 = 0.;
+  /** Local @p i at @p x moves by @p dx (@p x0: its position at the build);
+   * false (and bad set) if that refuses the step. */
+  bool add(int i, Vector3d const &x, Vector3d const &dx, Vector3d const &x0, bool colloid) {
+    double const disp2 = dx.norm2();
+    if (!(disp2 <= max2)) { // also catches NaN
+      bad = i;
+      bad_disp2 = disp2;
+      return false;
+    }
+    double const dd2 = (x + dx - x0).norm2();
+    moved |= dd2 > lim2;
+    dmax2 = std::max(dmax2, dd2);
+    if (colloid)
+      dcol2 = std::max(dcol2, dd2);
+    return true;
+  }
+  /** The colloid pair list holds the pairs within range + skin at the build:
+   * it stays valid while no pair came closer by skin, |dx_j| + |dx_colloid| <
+   * skin, which lets beads move up to ~skin (not skin/2, the main list's
+   * criterion, checked at the end of the step). */
+  bool colloid_list_stale(double skin) const { return std::sqrt(dmax2) + std::sqrt(dcol2) >= skin; }
+};
 } // namespace
 
 double System::kick_one(int i, double half_dt) { return kick_particle(m_ps, i, half_dt); }
@@ -385,31 +422,21 @@ bool System::drift_checked_substep(double kick_dt, double h) {
   auto step_of = [&](int i, Vector3d &dv, Vector3d &dx) {
     kick_drift_of(m_ps, i, am[i], f[i], v[i], h, dv, dx);
   };
-  int bad = -1;
-  double bad_disp2 = 0.;
-  bool moved = false;
-  // the largest displacement since the last build, of any local and of a colloid
-  double dmax2 = 0., dcol2 = 0.;
+  SubstepTally t{max2, lim2};
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
-    double const disp2 = dx.norm2();
-    if (!(disp2 <= max2)) { // also catches NaN
-      bad = i;
-      bad_disp2 = disp2;
-      break;
-    }
-    double const dd2 = (x[i] + dx - x0[i]).norm2();
-    moved |= dd2 > lim2;
-    dmax2 = std::max(dmax2, dd2);
 #ifdef MARBLE
-    if (m_colloids.is_colloid_type(m_ps.type[i]))
-      dcol2 = std::max(dcol2, dd2);
+    bool const col = m_colloids.is_colloid_type(m_ps.type[i]);
+#else
+    bool const col = false;
 #endif
+    if (!t.add(i, x[i], dx, x0[i], col))
+      break;
   }
-  int const vote = m_comm.max(bad >= 0 ? 2 : (moved ? 1 : 0));
+  int const vote = m_comm.max(t.bad >= 0 ? 2 : (t.moved ? 1 : 0));
   if (vote == 2)
-    refuse_step(bad, bad_disp2, h, m_substeps);
+    refuse_step(t.bad, t.bad_disp2, h, m_substeps);
   for (int i = 0; i < n; ++i) {
     Vector3d dv, dx;
     step_of(i, dv, dx);
@@ -417,11 +444,7 @@ bool System::drift_checked_substep(double kick_dt, double h) {
     x[i] += dx;
   }
   m_displacement_hint = vote;
-  // The colloid pair list holds the pairs within range + skin at the build:
-  // it stays valid while no pair came closer by skin, |dx_j| + |dx_colloid| <
-  // skin, which lets beads move up to ~skin (not skin/2, the main list's
-  // criterion, checked at the end of the step)
-  return std::sqrt(dmax2) + std::sqrt(dcol2) >= skin;
+  return t.colloid_list_stale(skin);
 }
 
 // The substeps of one RESPA step, the particles outside the colloid pair list
@@ -441,7 +464,7 @@ bool System::drift_checked_substep(double kick_dt, double h) {
 int System::respa_member_substeps(double h) {
 #ifdef MARBLE
   int const n_sub = m_substeps;
-  constexpr int kMaxSub = 64;
+  constexpr int kMaxSub = 100; // the substeps set_vv / set_shardlow accept
   if (!m_colloids.any() || m_comm.parallel() || n_sub > kMaxSub)
     return 0;
   auto const &members = m_colloids.pair_members();
@@ -454,11 +477,10 @@ int System::respa_member_substeps(double h) {
   auto const *const f = m_f_fast.data();
   auto const *const x0 = m_ps.pos_at_rebuild.data();
   Vector3d const zero{};
-  auto kick_dt_of = [h](int k) { return k == 0 ? 0.5 * h : h; };
   // An outside particle's kick factor a = kick_dt / m multiplies a zero
   // force: a * 0 = +0 for any finite a > 0, so for any mass whose a cannot
   // overflow 1 does as well as the division (the same bits, no divider)
-  auto a_out = [&](double m, int k) { return m >= 1e-290 ? 1. : kick_dt_of(k) / m; };
+  auto a_out = [&](double m, int k) { return m >= 1e-290 ? 1. : inner_kick_dt(k, h) / m; };
   // the outside particles: i in [lo, hi) between members
   auto for_each_outside = [&](auto &&fn) {
     int lo = 0;
@@ -469,14 +491,13 @@ int System::respa_member_substeps(double h) {
       lo = std::max(lo, hi + 1);
     }
   };
-  // (1) check: per substep the largest displacement since the build (all
-  // outside particles, and the outside colloids), the last one's half-skin test
-  std::array<double, kMaxSub> dmax2_out{}, dcol2_out{};
-  bool moved_out = false;
-  int bad = -1;
-  double bad_disp2 = 0.;
+  // (1) check: per substep the outside particles' tally (the largest
+  // displacements since the build, the half-skin test)
+  std::array<SubstepTally, kMaxSub> out;
+  out.fill(SubstepTally{max2, lim2});
+  int bad_k = -1; // the substep of the first refusal
   for_each_outside([&](int i) {
-    if (bad >= 0)
+    if (bad_k >= 0)
       return;
     Vector3d vi = v[i], xi = x[i];
     double const m = m_ps.get_mass(i);
@@ -484,24 +505,16 @@ int System::respa_member_substeps(double h) {
     for (int k = 0; k < n_sub; ++k) {
       Vector3d dv, dx;
       kick_drift_of(m_ps, i, a_out(m, k), zero, vi, h, dv, dx);
-      double const disp2 = dx.norm2();
-      if (!(disp2 <= max2)) { // also catches NaN
-        bad = i;
-        bad_disp2 = disp2;
+      if (!out[k].add(i, xi, dx, x0[i], col)) {
+        bad_k = k;
         return;
       }
-      double const dd2 = (xi + dx - x0[i]).norm2();
-      dmax2_out[k] = std::max(dmax2_out[k], dd2);
-      if (col)
-        dcol2_out[k] = std::max(dcol2_out[k], dd2);
-      if (k + 1 == n_sub)
-        moved_out |= dd2 > lim2;
       vi += dv;
       xi += dx;
     }
   });
-  if (m_comm.max(bad >= 0 ? 2 : 0) == 2)
-    refuse_step(bad, bad_disp2, h, n_sub);
+  if (m_comm.max(bad_k >= 0 ? 2 : 0) == 2)
+    refuse_step(out[bad_k].bad, out[bad_k].bad_disp2, h, n_sub);
   // the outside particles' substeps [k0, k1)
   auto advance_outside = [&](int k0, int k1) {
     for_each_outside([&](int i) {
@@ -516,31 +529,23 @@ int System::respa_member_substeps(double h) {
   };
   // (2) the list's particles, substep by substep
   for (int k = 0; k < n_sub; ++k) {
-    double const kick_dt = kick_dt_of(k);
-    double dmax2 = dmax2_out[k], dcol2 = dcol2_out[k];
-    bool moved = false;
+    double const kick_dt = inner_kick_dt(k, h);
+    // this substep's tally over all locals: the outside particles' and the list's
+    // (a half-skin vote before the last substep only decides nothing: the last one's stays)
+    SubstepTally t = out[k];
     for (int i : members) {
       if (i >= n)
         break;
       Vector3d dv, dx;
       kick_drift_of(m_ps, i, kick_dt / m_ps.get_mass(i), f[i], v[i], h, dv, dx);
-      double const disp2 = dx.norm2();
-      if (!(disp2 <= max2)) {
-        bad = i;
-        bad_disp2 = disp2;
+      if (!t.add(i, x[i], dx, x0[i], m_colloids.is_colloid_type(m_ps.type[i])))
         break;
-      }
-      double const dd2 = (x[i] + dx - x0[i]).norm2();
-      moved |= dd2 > lim2;
-      dmax2 = std::max(dmax2, dd2);
-      if (m_colloids.is_colloid_type(m_ps.type[i]))
-        dcol2 = std::max(dcol2, dd2);
     }
     bool const last = k + 1 == n_sub;
-    int const vote = m_comm.max(bad >= 0 ? 2 : ((moved || (last && moved_out)) ? 1 : 0));
+    int const vote = m_comm.max(t.bad >= 0 ? 2 : (t.moved ? 1 : 0));
     if (vote == 2) {
       advance_outside(0, k); // the substeps before the refused one stay done
-      refuse_step(bad, bad_disp2, h, n_sub);
+      refuse_step(t.bad, t.bad_disp2, h, n_sub);
     }
     for (int i : members) {
       if (i >= n)
@@ -553,7 +558,7 @@ int System::respa_member_substeps(double h) {
     m_displacement_hint = vote;
     if (last)
       break;
-    if (std::sqrt(dmax2) + std::sqrt(dcol2) >= skin) { // the colloid list is stale
+    if (t.colloid_list_stale(skin)) {
       advance_outside(0, k + 1);
       m_displacement_hint = 1;
       ensure_lists(); // rebuild (the pairs of the colloid list too)
@@ -604,7 +609,7 @@ int System::run_md_respa(int n_steps) {
       int k = have_fast ? respa_member_substeps(h) : 0; // (all n_sub, or up to a mid-step rebuild)
       for (; k < n_sub; ++k) {
         // the inner half kicks of substeps k - 1 and k in one
-        bool const colloid_list_stale = drift_checked_substep(k == 0 ? 0.5 * h : h, h);
+        bool const colloid_list_stale = drift_checked_substep(inner_kick_dt(k, h), h);
         // (without fast forces nothing is evaluated between the substeps: the
         // list is checked at the end, as with substeps = 1)
         if (k + 1 < n_sub && have_fast) {
