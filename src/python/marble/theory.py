@@ -467,10 +467,10 @@ def slip_sphere_from_radii(R_t, R_r, branch="positive"):
 #: Lattice sums of a simple cubic array (lattice constant 1) for the stresslet
 #: factor below, with the image disturbance u' of a sphere of radius R in the strain
 #: E (E_xy = E_yx = 1): u' = -(5/2) R^3 A(x) - (R^5/2) B(x), A = x (x.E.x)/r^5,
-#: B = 2 E.x/r^5 - 5 x (x.E.x)/r^7. STRESSLET_LATTICE_K3 is sum_{n != 0, |n| <= N}
-#: of the xy strain of A at the lattice sites, summed over a ball (N -> inf:
-#: 3.1120, 3.1129, 3.1128, 3.1130, 3.1131 at N = 40, 60, 80, 100, 120); K5 that of B
-#: (absolutely convergent); the Laplacian of A's strain sums to 2 K5.
+#: B = 2 E.x/r^5 - 5 x (x.E.x)/r^7. STRESSLET_LATTICE_K3 is the sum of the xy strain
+#: of A over the sites n != 0 within a ball of radius N, N -> inf (3.1120, 3.1129,
+#: 3.1128, 3.1130, 3.1131 at N = 40, 60, 80, 100, 120); K5 that of B (absolutely
+#: convergent); the Laplacian of A's strain sums to 2 K5.
 STRESSLET_LATTICE_K3 = 3.1130
 STRESSLET_LATTICE_K5 = -24.8658
 
