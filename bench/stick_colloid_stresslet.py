@@ -84,6 +84,9 @@ def parse(argv=None):
     p.add_argument("--json", help="run: append the result (one JSON line) to this file")
     p.add_argument("--results", nargs="*", help="table: JSONL files of runs")
     p.add_argument("--eta0", type=float, nargs=2, default=[ETA0, ETA0_ERR], help="table: eta_0 and its error")
+    p.add_argument("--pool-reference", action="store_true",
+                   help="table: one solvent viscosity from the references of every rate (a Newtonian solvent), "
+                        "instead of each rate's own")
     args = p.parse_args(argv)
     if args.dt is None:
         args.dt = 0.005 if args.vv else DT
@@ -92,6 +95,8 @@ def parse(argv=None):
             v = getattr(args, name)
             if not (math.isfinite(v) and v > 0):
                 p.error(f"--{name} must be > 0, got {v}")
+        if args.time < 10.0:
+            p.error(f"--time must be >= 10 (10 blocks of the once-per-time-unit samples), got {args.time}")
         if args.L < 3.0:
             p.error(f"--L must be >= 3 (the colloid's own image), got {args.L}")
         if args.every < 1:
@@ -262,7 +267,14 @@ def table(args):
             continue
         V = L ** 3
         pc, pce, chc = weighted([r["pxy"] for r in col], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in col])
-        pr, pre, chr_ = weighted([r["pxy"] for r in ref], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in ref])
+        if args.pool_reference:
+            pool = [r for r in runs if r["reference"] and r["L"] == L and r["n_solvent"] == n_ref]
+            er, ere, chr_ = weighted([-r["pxy"] / r["rate"] for r in pool],
+                                     [max(r["pxy_err"], r["pxy_err_blocks"]) / r["rate"] for r in pool])
+            pr, pre = -er * rate, ere * rate
+            ref = pool
+        else:
+            pr, pre, chr_ = weighted([r["pxy"] for r in ref], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in ref])
         S = -V * (pc - pr)
         S_err = V * math.hypot(pce, pre)
         eta_ref = -pr / rate
@@ -300,7 +312,40 @@ def table(args):
         print(f"  S_xy = {S:.4f} +/- {S_err:.4f}; S/(eta rate/2) = {S_over:.3f} +/- {S_over_err:.3f}; "
               f"predicted (lattice included): R_t {pred['R_t']:.3f}, R_r {pred['R_r']:.3f}; "
               f"R_s = {Rs:.4f} ({Rs_lo:.4f}-{Rs_hi:.4f})")
+    if len(out) >= 2:
+        extrapolate(out, L_of=lambda r: r["L"], R_t=R_t, R_r=R_r)
     return out
+
+
+def extrapolate(rows, L_of, R_t, R_r):
+    """Weighted fit S/(eta rate/2) = S0 + b rate^p through the rates of one box (p = 2:
+    S/rate is even in the rate, so a periodic box's inertial correction is O(Re^2);
+    p = 1.5: the unbounded sphere's Re^(3/2) form), and R_s of S0. Returns the fits."""
+    fits = []
+    for L in sorted({L_of(r) for r in rows}):
+        g = [r for r in rows if L_of(r) == L]
+        if len(g) < 2:
+            continue
+        y = np.array([r["S_over"] for r in g])
+        w = 1.0 / np.array([r["S_over_err"] for r in g]) ** 2
+        for p in (2.0, 1.5):
+            x = np.array([r["rate"] for r in g]) ** p
+            A = np.vstack([np.ones_like(x), x]).T
+            C = np.linalg.inv(A.T @ (A * w[:, None]))
+            b = C @ (A.T @ (w * y))
+            chi2 = float(np.sum(w * (y - A @ b) ** 2))
+            e0 = math.sqrt(C[0, 0])
+            Rs = strain_radius(b[0], L)
+            Rs_lo, Rs_hi = strain_radius(b[0] - e0, L), strain_radius(b[0] + e0, L)
+            pred = {name: (20.0 / 3.0) * math.pi * r ** 3 * theory.stresslet_lattice_factor(r, L)
+                    for name, r in (("R_t", R_t), ("R_r", R_r))}
+            fits.append(dict(L=L, p=p, S0=float(b[0]), S0_err=e0, slope=float(b[1]), slope_err=math.sqrt(C[1, 1]),
+                             chi2=chi2, dof=len(g) - 2, R_s=Rs, R_s_range=[Rs_lo, Rs_hi]))
+            print(f"rate -> 0 (L = {L:.4f}, S/(eta rate/2) = S0 + b rate^{p:g} over {len(g)} rates): S0 = {b[0]:.3f} "
+                  f"+/- {e0:.3f}, b = {b[1]:.1f} +/- {math.sqrt(C[1, 1]):.1f} (chi2 {chi2:.2f}/{len(g) - 2}); "
+                  f"R_s = {Rs:.4f} ({Rs_lo:.4f}-{Rs_hi:.4f}); S0 - R_t's: {(b[0] - pred['R_t']) / e0:+.1f} sigma, "
+                  f"- R_r's: {(b[0] - pred['R_r']) / e0:+.1f} sigma")
+    return fits
 
 
 def theory_R_t():

@@ -193,6 +193,16 @@ def test_bench_table_recovers_radius(tmp_path, capsys):
         assert row["S"] == pytest.approx(S, rel=1e-9)
         assert row["S_err"] == pytest.approx(L ** 3 * math.hypot(2e-4, 1e-4) / math.sqrt(2), rel=1e-9)
         assert row["R_s_range"][0] < Rs < row["R_s_range"][1]
+    # the extrapolation to rate 0: the same radius at both rates has slope 0 and gives R_s back;
+    # a law S0 + b rate^2 is recovered exactly by the p = 2 fit
+    fits = b.extrapolate(rows, L_of=lambda r: r["L"], R_t=1.0, R_r=1.05)
+    assert [f["p"] for f in fits] == [2.0, 1.5]
+    for f in fits:
+        assert f["R_s"] == pytest.approx(Rs, rel=1e-9)
+        assert f["slope"] == pytest.approx(0.0, abs=1e-6)
+    fake = [dict(L=L, rate=x, S_over=21.0 + 300.0 * x * x, S_over_err=0.5 + x) for x in (0.05, 0.1, 0.2)]
+    f2 = b.extrapolate(fake, L_of=lambda r: r["L"], R_t=1.0, R_r=1.05)[0]
+    assert (f2["S0"], f2["slope"], f2["chi2"]) == pytest.approx((21.0, 300.0, 0.0), abs=1e-9)
     # a reference at another bead count gives the viscosity's density slope; a colloid run at
     # the exact count is reported beside the bulk count, neither enters S
     extra = [dict(lines[0], n_solvent=259, pxy=-eta0 * 0.05 * (259 / 251) ** 1.5, seed=3),

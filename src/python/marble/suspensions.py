@@ -220,8 +220,9 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``"rotation"`` (stick only): ``radius`` is the rotational radius and
       a = radius / STICK_ROTATIONAL_RADIUS_RATIO (1.0623 +/- 0.0035, section 7m):
       the choice for viscosity work if the stresslet follows the rotation, which
-      7m's Krieger-Dougherty comparison supports at phi = 0.2-0.3 but which is not
-      measured directly; or a
+      7m's Krieger-Dougherty comparison supports at phi = 0.2-0.3; the stresslet of
+      one colloid measured directly (section 7p) puts its strain radius between
+      the two, R_s = 1.024 (1.010-1.038) x the drag radius; or a
       number c > 0 (your own measured ratio): a = radius / c. Everything of the
       colloid is then built on the core a: the offsets of the colloid-solvent
       hat, DPD and surface friction, the equal-volume surface cutoff r'_c(a)
