@@ -54,6 +54,7 @@ import marble.lees_edwards as le  # noqa: E402
 import marble.suspensions as sus  # noqa: E402
 from marble import theory  # noqa: E402
 from marble.diffusion import blocking  # noqa: E402
+from stick_colloid_radii import weighted as _weighted  # noqa: E402
 
 R, KT, GAMMA, DT = 1.0, 0.1, 4.5, 0.01
 L_DEFAULT = 4.3756
@@ -204,14 +205,8 @@ def run(args):
 
 
 def weighted(x, e):
-    x, e = np.asarray(x, float), np.asarray(e, float)
-    w = 1.0 / e ** 2
-    m = float(np.sum(w * x) / np.sum(w))
-    err = float(1.0 / math.sqrt(np.sum(w)))
-    chi2 = float(np.sum(w * (x - m) ** 2))
-    if len(x) > 1 and chi2 / (len(x) - 1) > 1:
-        err *= math.sqrt(chi2 / (len(x) - 1))
-    return m, err, chi2
+    """(weighted mean, its error scaled by sqrt(chi^2/dof) above 1, chi^2): stick_colloid_radii's."""
+    return _weighted(x, e)[:3]
 
 
 def strain_radius(S_over, L, lo=0.5, hi=1.5):
