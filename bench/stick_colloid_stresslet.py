@@ -16,7 +16,7 @@ beads), times the volume:
 (the solvent's stress integrated over the fluid is eta_0 times the whole box's
 strain rate for a rigid particle, so everything above it is the particle's).
 P_xy is the symmetrised xy element of ``pressure_tensor()``'s total plus its DPD
-part, sampled every ``--every`` steps; errors by blocking.
+part, sampled every ``--every`` steps (default every step); errors by blocking.
 
 - ``--part run``: one run, one JSON line (``--json``): <P_xy>, its blocking error,
   100 block means, the solvent kT of the peculiar velocities, the bead density
@@ -58,7 +58,6 @@ from stick_colloid_radii import weighted as _weighted  # noqa: E402
 
 R, KT, GAMMA, DT = 1.0, 0.1, 4.5, 0.01
 L_DEFAULT = 4.3756
-ETA0, ETA0_ERR = 0.3290, 0.0030  # doc/suspensions.md section 7d
 RHO = 3.0
 N_BLOCKS = 100
 
@@ -72,7 +71,8 @@ def parse(argv=None):
     p.add_argument("--time", type=float, default=1000.0, help="run: sampled time units")
     p.add_argument("--equil", type=float, default=20.0, help="run: time units at rest")
     p.add_argument("--settle", type=float, default=20.0, help="run: sheared time units before sampling")
-    p.add_argument("--every", type=int, default=5, help="run: steps between stress samples")
+    p.add_argument("--every", type=int, default=1,
+                   help="run: steps between stress samples (default 1: the cheapest per error bar, section 7p)")
     p.add_argument("--dt", type=float, default=None, help="time step (default 0.01; 0.005 with --vv)")
     p.add_argument("--vv", action="store_true", help="run: velocity Verlet instead of Shardlow (a check of the "
                                                      "stress estimator)")
@@ -84,7 +84,6 @@ def parse(argv=None):
                    help="run --reference: this many beads instead of round(3 V) (the viscosity's density slope)")
     p.add_argument("--json", help="run: append the result (one JSON line) to this file")
     p.add_argument("--results", nargs="*", help="table: JSONL files of runs")
-    p.add_argument("--eta0", type=float, nargs=2, default=[ETA0, ETA0_ERR], help="table: eta_0 and its error")
     p.add_argument("--pool-reference", action="store_true",
                    help="table: one solvent viscosity from the references of every rate (a Newtonian solvent), "
                         "instead of each rate's own")
@@ -158,8 +157,9 @@ def run(args):
     per_unit = max(1, int(round(1.0 / (args.every * args.dt))))  # samples per time unit
     pxy = np.empty(n_samples)
     kts, n_far, wz = [], [], []
-    rng = np.random.default_rng([args.seed, 7])
-    v_far = None
+    if col is not None:  # the volume farther than 1 from the core surface (Monte Carlo)
+        x = np.random.default_rng([args.seed, 7]).uniform(-0.5, 0.5, (400000, 3)) * L
+        v_far = float(np.count_nonzero(np.linalg.norm(x, axis=1) > a + 1.0)) / len(x) * L ** 3
     for k in range(n_samples):
         s.integrator.run(args.every)
         p = s.analysis.pressure_tensor()
@@ -176,9 +176,6 @@ def run(args):
                 d = np.mod(np.asarray(sol.pos, float) - cp + 0.5 * L, L) - 0.5 * L
                 n_far.append(int(np.count_nonzero(np.linalg.norm(d, axis=1) > a + 1.0)))
                 wz.append(float(np.asarray(col.omega_lab, float)[0][2]))
-                if v_far is None:
-                    x = rng.uniform(-0.5, 0.5, (400000, 3)) * L
-                    v_far = float(np.count_nonzero(np.linalg.norm(x, axis=1) > a + 1.0)) / len(x) * L ** 3
     blk = blocking(pxy)
     blocks = [float(b.mean()) for b in np.array_split(pxy, N_BLOCKS)]
     out = dict(part="run", reference=bool(args.reference), rate=args.rate, L=args.L, seed=args.seed,
@@ -209,10 +206,24 @@ def weighted(x, e):
     return _weighted(x, e)[:3]
 
 
+def pxy_mean(rs):
+    """Weighted <P_xy> of runs (each with the larger of its two error estimates): (mean, error, chi^2)."""
+    return weighted([r["pxy"] for r in rs], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in rs])
+
+
+def stresslet_over(r, L):
+    """S_xy/(eta rate/2) of a no-slip sphere of radius r in the box L: (20/3) pi r^3 x lattice(r, L)."""
+    return (20.0 / 3.0) * math.pi * r ** 3 * theory.stresslet_lattice_factor(r, L)
+
+
+def predictions(R_t, R_r, L):
+    return {"R_t": stresslet_over(R_t, L), "R_r": stresslet_over(R_r, L)}
+
+
 def strain_radius(S_over, L, lo=0.5, hi=1.5):
-    """R_s with (20/3) pi R_s^3 x lattice(R_s, L) = S_over (S_xy/(eta_0 rate/2))."""
+    """R_s with stresslet_over(R_s, L) = S_over (S_xy/(eta_0 rate/2))."""
     def f(r):
-        return (20.0 / 3.0) * math.pi * r ** 3 * theory.stresslet_lattice_factor(r, L) - S_over
+        return stresslet_over(r, L) - S_over
     if f(lo) > 0 or f(hi) < 0:
         return float("nan")
     for _ in range(200):
@@ -235,7 +246,6 @@ def table(args):
               f"{r['n_solvent']} beads: -<P_xy>/rate = {-r['pxy'] / r['rate']:.5f} +/- "
               f"{max(r['pxy_err'], r['pxy_err_blocks']) / r['rate']:.5f} (not in the table below)")
     runs = [r for r in runs if r.get("part") == "run" and r.get("integrator", "shardlow") == "shardlow"]
-    eta0, eta0_err = args.eta0
     R_t = theory_R_t()
     R_r = sus.STICK_ROTATIONAL_RADIUS_RATIO / sus.STICK_RADIUS_RATIO * R
     print(f"radii (R = 1 the calibrated drag radius): R_t = {R_t:.4f}, R_r = {R_r:.4f} (section 7m)")
@@ -251,8 +261,8 @@ def table(args):
             # the solvent viscosity's density slope d ln eta / d ln rho from references at other counts
             for n in sorted({r["n_solvent"] for r in other}):
                 o = [r for r in other if r["n_solvent"] == n]
-                po, poe, _ = weighted([r["pxy"] for r in o], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in o])
-                pr0, pre0, _ = weighted([r["pxy"] for r in ref], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in ref])
+                po, poe, _ = pxy_mean(o)
+                pr0, pre0, _ = pxy_mean(ref)
                 sl = math.log(po / pr0) / math.log(n / n_ref)
                 sle = math.hypot(poe / po, pre0 / pr0) / abs(math.log(n / n_ref))
                 print(f"rate {rate}: reference at {n} beads: eta {-po / rate:.5f} +/- {poe / rate:.5f}; "
@@ -261,7 +271,7 @@ def table(args):
             print(f"rate {rate}, L {L}: needs both colloid and reference runs ({len(col)}, {len(ref)})")
             continue
         V = L ** 3
-        pc, pce, chc = weighted([r["pxy"] for r in col], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in col])
+        pc, pce, chc = pxy_mean(col)
         if args.pool_reference:
             pool = [r for r in runs if r["reference"] and r["L"] == L and r["n_solvent"] == n_ref]
             er, ere, chr_ = weighted([-r["pxy"] / r["rate"] for r in pool],
@@ -269,7 +279,7 @@ def table(args):
             pr, pre = -er * rate, ere * rate
             ref = pool
         else:
-            pr, pre, chr_ = weighted([r["pxy"] for r in ref], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in ref])
+            pr, pre, chr_ = pxy_mean(ref)
         S = -V * (pc - pr)
         S_err = V * math.hypot(pce, pre)
         eta_ref = -pr / rate
@@ -277,8 +287,7 @@ def table(args):
         S_over_err = S_over * math.hypot(S_err / S, pre / pr)
         Rs = strain_radius(S_over, L)
         Rs_lo, Rs_hi = strain_radius(S_over - S_over_err, L), strain_radius(S_over + S_over_err, L)
-        pred = {name: (20.0 / 3.0) * math.pi * r ** 3 * theory.stresslet_lattice_factor(r, L)
-                for name, r in (("R_t", R_t), ("R_r", R_r))}
+        pred = predictions(R_t, R_r, L)
         Re = RHO * rate * R ** 2 / eta_ref
         lps = 1.34 * Re ** 1.5 / 2.5
         tcpu = sum(r["cpu_s"] for r in grp)
@@ -293,7 +302,7 @@ def table(args):
                    kT=[min(r["kT"] for r in grp), max(r["kT"] for r in grp)],
                    omega=[r["omega_z"] for r in col if "omega_z" in r])
         if exact:
-            pe, pee, _ = weighted([r["pxy"] for r in exact], [max(r["pxy_err"], r["pxy_err_blocks"]) for r in exact])
+            pe, pee, _ = pxy_mean(exact)
             row["S_exact"], row["S_exact_err"] = -V * (pe - pr), V * math.hypot(pee, pre)
             print(f"rate {rate}: colloid at the exact count ({exact[0]['n_solvent']} beads, {len(exact)} runs): "
                   f"S_xy = {row['S_exact']:.4f} +/- {row['S_exact_err']:.4f} (bulk count: {S:.4f} +/- {S_err:.4f})")
@@ -323,6 +332,7 @@ def extrapolate(rows, L_of, R_t, R_r):
             continue
         y = np.array([r["S_over"] for r in g])
         w = 1.0 / np.array([r["S_over_err"] for r in g]) ** 2
+        pred = predictions(R_t, R_r, L)
         for p in (2.0, 1.5):
             x = np.array([r["rate"] for r in g]) ** p
             A = np.vstack([np.ones_like(x), x]).T
@@ -332,8 +342,6 @@ def extrapolate(rows, L_of, R_t, R_r):
             e0 = math.sqrt(C[0, 0])
             Rs = strain_radius(b[0], L)
             Rs_lo, Rs_hi = strain_radius(b[0] - e0, L), strain_radius(b[0] + e0, L)
-            pred = {name: (20.0 / 3.0) * math.pi * r ** 3 * theory.stresslet_lattice_factor(r, L)
-                    for name, r in (("R_t", R_t), ("R_r", R_r))}
             fits.append(dict(L=L, p=p, S0=float(b[0]), S0_err=e0, slope=float(b[1]), slope_err=math.sqrt(C[1, 1]),
                              chi2=chi2, dof=len(g) - 2, R_s=Rs, R_s_range=[Rs_lo, Rs_hi]))
             print(f"rate -> 0 (L = {L:.4f}, S/(eta rate/2) = S0 + b rate^{p:g} over {len(g)} rates): S0 = {b[0]:.3f} "
