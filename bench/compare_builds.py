@@ -101,18 +101,27 @@ def build_ref(ref, where):
     return os.path.join(bld, "pymarble")
 
 
-def run_case(launcher, case, steps):
-    """Rate of @p case in a fresh process of @p launcher (a build's pymarble).
+def start_case(launcher, case, steps, cpu=None):
+    """A fresh process of @p launcher (a build's pymarble) running @p case,
+    pinned to core @p cpu if given.
 
     The child gets no inherited PYTHONPATH (pymarble appends it to its own, so
     a build without its Python package would silently import this process's
     marble), and the module it imported must lie in the launcher's build."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    p = subprocess.run([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)],
-                       capture_output=True, text=True, env=env)
+    pin = None if cpu is None else (lambda: os.sched_setaffinity(0, {cpu}))
+    return subprocess.Popen([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=pin)
+
+
+def run_case(launcher, case, steps, proc=None):
+    """Rate of @p case in a fresh process of @p launcher (or of its started process @p proc)."""
+    p = proc or start_case(launcher, case, steps)
+    stdout, stderr = p.communicate()
     if p.returncode != 0:
-        raise RuntimeError(f"{launcher} failed on case {case} (exit {p.returncode}):\n{p.stderr[-2000:]}")
-    res = json.loads(p.stdout.strip().splitlines()[-1])
+        raise RuntimeError(f"{launcher} failed on case {case} (exit {p.returncode}):\n{stderr[-2000:]}")
+    res = json.loads(stdout.strip().splitlines()[-1])
     build = os.path.realpath(os.path.dirname(launcher))
     if not res["module"].startswith(build + os.sep):
         raise RuntimeError(f"{launcher} imported marble from {res['module']}, not from its own build {build}: "
@@ -120,6 +129,14 @@ def run_case(launcher, case, steps):
     N_PARTICLES[case] = res.get("n")
     DT[case] = res.get("dt")
     return res["rate"]
+
+
+def median_interval(x, n_boot=2000, seed=1):
+    """The 16th and 84th percentiles of the bootstrap distribution of median(@p x)."""
+    import random
+    rng = random.Random(seed)
+    meds = sorted(statistics.median(rng.choices(x, k=len(x))) for _ in range(n_boot))
+    return meds[int(0.16 * n_boot)], meds[int(0.84 * n_boot)]
 
 
 def main(argv=None):
@@ -130,6 +147,9 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--cases", default=",".join(CASES),
                     help="comma-separated, from " + ", ".join(CASES + SHARDLOW_CASES))
+    ap.add_argument("--side-by-side", action="store_true",
+                    help="run the two builds' processes at the same time, each pinned to its own core "
+                         "(the cores swapped every round): drifts of the machine's speed hit both alike")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--out-name", default="compare_builds.json", help=argparse.SUPPRESS)
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -151,6 +171,16 @@ def main(argv=None):
     try:
         for r in range(args.rounds):
             for c in cases:
+                if args.side_by_side:
+                    cores = sorted(os.sched_getaffinity(0))
+                    if len(cores) < 2:
+                        raise SystemExit("--side-by-side needs two cores")
+                    pair = (cores[r % 2], cores[(r + 1) % 2])
+                    procs = {who: start_case(launcher, c, args.steps, cpu)
+                             for (who, launcher), cpu in zip((("current", current), ("baseline", base)), pair)}
+                    for who, launcher in (("current", current), ("baseline", base)):
+                        samples[c][who].append(run_case(launcher, c, args.steps, procs[who]))
+                    continue
                 for who, launcher in (("current", current), ("baseline", base)):
                     samples[c][who].append(run_case(launcher, c, args.steps))
             print(f"round {r + 1}/{args.rounds}: " + ", ".join(
@@ -161,16 +191,22 @@ def main(argv=None):
             subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", os.path.join(tmp, "src")],
                            capture_output=True)
             shutil.rmtree(tmp, ignore_errors=True)
-    out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps, "cases": {}}
-    print(f"\nparticle-steps per CPU-second, median of {args.rounds} interleaved rounds")
-    print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios (min-max)")
+    out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
+           "side_by_side": bool(args.side_by_side), "cases": {}}
+    how = "side-by-side" if args.side_by_side else "interleaved"
+    print(f"\nparticle-steps per CPU-second, median of {args.rounds} {how} rounds")
+    print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios: "
+          "min-max, median (68 % bootstrap interval)")
     for c in cases:
         mc, mb = (statistics.median(samples[c][w]) for w in ("current", "baseline"))
         # each round's current/baseline pair ran back to back: its ratio sees the same load
         rr = [a / b for a, b in zip(samples[c]["current"], samples[c]["baseline"])]
+        lo, hi = median_interval(rr)
         out["cases"][c] = dict(current=mc, baseline=mb, ratio=mc / mb, samples=samples[c],
-                               round_ratios=rr)
-        print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}")
+                               round_ratios=rr, round_ratio_median=statistics.median(rr),
+                               round_ratio_interval=[lo, hi])
+        print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}, "
+              f"{statistics.median(rr):.3f} ({lo:.3f}-{hi:.3f})")
         if c in SHARDLOW_CASES:  # N / (rate dt): CPU-seconds per unit of time tau
             tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * DT[c]) for w in ("current", "baseline")}
             out["cases"][c]["cpu_s_per_tau"] = tau

@@ -185,3 +185,46 @@ TEST(OuExp, BlocksOfAnyLength) {
 }
 
 } // namespace
+
+// The sweep's OU amplitudes (ou_amplitude_block): every path gives the bits of
+// the scalar expressions sqrt(12 kT/mu (1 - a^2)) and a - 1, for blocks of any
+// length, in place (am1 = a) as the sweep calls it, and writes nothing past n.
+TEST(OuAmplitude, PathsGiveTheScalarBits) {
+  auto const paths = Marble::ou_amplitude_paths();
+  ASSERT_GE(paths.size(), 1u);
+  EXPECT_STREQ(paths[0].first, "scalar");
+#if defined(__x86_64__) && defined(__GNUC__)
+  EXPECT_EQ(paths.size(), __builtin_cpu_supports("avx2") ? 2u : 1u);
+#endif
+  std::vector<std::pair<char const *, Marble::OUAmplitudeBlockFn>> fns = paths;
+  fns.emplace_back("ou_amplitude_block", &Marble::ou_amplitude_block);
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> ua(0., 1.), uk(1e-3, 10.);
+  double const sentinel = -7.25;
+  for (auto const &[name, fn] : fns) {
+    for (int const n : {0, 1, 2, 3, 4, 5, 7, 8, 9, 251, 252, 4000}) {
+      std::vector<double> a(static_cast<std::size_t>(n) + 8), kT(a.size());
+      for (std::size_t l = 0; l < a.size(); ++l) {
+        a[l] = ua(rng), kT[l] = uk(rng);
+        if (l % 97 == 3)
+          a[l] = 1.; // no friction: sd = 0 exactly
+      }
+      std::vector<double> sd(a.size(), sentinel), am1 = a;
+      std::fill(am1.begin() + n, am1.end(), sentinel);
+      fn(am1.data(), kT.data(), n, sd.data(), am1.data());
+      int mismatches = 0;
+      for (int l = 0; l < n; ++l) {
+        double const want_sd = std::sqrt(12. * kT[l] * (1. - a[l] * a[l]));
+        double const want_am1 = a[l] - 1.;
+        if ((bits(sd[l]) != bits(want_sd) || bits(am1[l]) != bits(want_am1)) && ++mismatches <= 5)
+          ADD_FAILURE() << name << " n = " << n << " lane " << l << ": sd " << sd[l] << " (want " << want_sd
+                        << "), a - 1 " << am1[l] << " (want " << want_am1 << ")";
+      }
+      EXPECT_EQ(mismatches, 0) << name << " n = " << n;
+      for (std::size_t l = n; l < a.size(); ++l) {
+        EXPECT_EQ(sd[l], sentinel) << name << " n = " << n << ": wrote past the end at " << l;
+        EXPECT_EQ(am1[l], sentinel) << name << " n = " << n << ": wrote past the end at " << l;
+      }
+    }
+  }
+}

@@ -27,6 +27,7 @@
 #include "integrators/ou_exp.hpp"
 #include "utils/cpu.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -145,7 +146,50 @@ __attribute__((target("avx2"))) void exp_neg_avx2(double const *x, double *out, 
 }
 #endif
 
+void ou_amplitude_scalar(double const *a, double const *kT_mu, int n, double *sd, double *am1) {
+  for (int l = 0; l < n; ++l) {
+    double const al = a[l];
+    sd[l] = std::sqrt(12. * kT_mu[l] * (1. - al * al));
+    am1[l] = al - 1.;
+  }
+}
+
+#ifdef MARBLE_OU_EXP_AVX2
+__attribute__((target("avx2"))) void ou_amplitude_avx2(double const *a, double const *kT_mu, int n, double *sd,
+                                                        double *am1) {
+  int l = 0;
+  __m256d const one = _mm256_set1_pd(1.), twelve = _mm256_set1_pd(12.);
+  for (; l + 4 <= n; l += 4) {
+    __m256d const al = _mm256_loadu_pd(a + l);
+    __m256d const v = _mm256_mul_pd(_mm256_mul_pd(twelve, _mm256_loadu_pd(kT_mu + l)),
+                                    _mm256_sub_pd(one, _mm256_mul_pd(al, al)));
+    _mm256_storeu_pd(sd + l, _mm256_sqrt_pd(v));
+    _mm256_storeu_pd(am1 + l, _mm256_sub_pd(al, one));
+  }
+  ou_amplitude_scalar(a + l, kT_mu + l, n - l, sd + l, am1 + l);
+}
+#endif
+
 } // namespace
+
+void ou_amplitude_block(double const *a, double const *kT_mu, int n, double *sd, double *am1) {
+#ifdef MARBLE_OU_EXP_AVX2
+  if (Utils::cpu_has_avx2()) {
+    ou_amplitude_avx2(a, kT_mu, n, sd, am1);
+    return;
+  }
+#endif
+  ou_amplitude_scalar(a, kT_mu, n, sd, am1);
+}
+
+std::vector<std::pair<char const *, OUAmplitudeBlockFn>> ou_amplitude_paths() {
+  std::vector<std::pair<char const *, OUAmplitudeBlockFn>> out{{"scalar", &ou_amplitude_scalar}};
+#ifdef MARBLE_OU_EXP_AVX2
+  if (Utils::cpu_has_avx2())
+    out.emplace_back("avx2", &ou_amplitude_avx2);
+#endif
+  return out;
+}
 
 double exp_neg(double x) { return exp_neg_one(x); }
 

@@ -101,12 +101,13 @@ namespace {
  * positions, masses and noise only (integrators/shardlow.cpp, pre-pass): the
  * same expressions as the one-pass loop had, so the same bits. */
 struct SweepBlock {
-  enum : unsigned char { in_range = 1, dpd = 2, radial = 4, trans = 8, unit_masses = 16 };
+  enum : unsigned char { in_range = 1, dpd = 2, radial = 4, trans = 8, unit_masses = 16, mu_folded = 32 };
   std::array<unsigned char, kPairBlock> flags;
   std::array<int, kPairBlock> oi, oj;
   std::array<Vector3d, kPairBlock> e;
   std::array<double, kPairBlock> ar, nr; // radial: a - 1 and s (e . xi)
   std::array<double, kPairBlock> mu, mi, mj, kT_mu;
+  alignas(32) std::array<double, kPairBlock> sd;            // an OU step's noise amplitude
 #ifdef TRANS_DPD
   std::array<double, kPairBlock> at;  // transverse: a - 1
   std::array<Vector3d, kPairBlock> nt; // and s (xi - (e . xi) e)
@@ -271,6 +272,11 @@ void shardlow_sweep(System &sys) {
             // x / 1 is x: unit masses need no division in the velocity pass
             if (mi == 1. && mj == 1.)
               f |= SweepBlock::unit_masses;
+            // a power-of-two mu multiplies the factors below instead of
+            // each momentum change: the same bits (scaling by 2^k commutes
+            // with rounding), one multiplication less on the sweep's chain
+            if (pm.mu_pow2)
+              f |= SweepBlock::mu_folded;
             // the rates lambda dt of the OU steps (their factors follow below)
             if (w > 0. && p.radial.gamma > 0.) {
               B.ar[s] = pm.over_mu(p.radial.gamma * mfac * w * w * dt);
@@ -291,8 +297,7 @@ void shardlow_sweep(System &sys) {
     }
     // the OU factors a = exp(-lambda dt) (struct OU, in separate loops: the
     // exponentials of a block 4 at a time, integrators/ou_exp.hpp, within
-    // 1 ulp of std::exp; the square roots after them overlap). Pairs
-    // without the friction get exp(0), unused.
+    // 1 ulp of std::exp). Pairs without the friction get exp(0), unused.
     unsigned any_flags = 0;
     for (int s = 0; s < b.size; ++s) {
       unsigned const f = B.flags[s];
@@ -302,8 +307,13 @@ void shardlow_sweep(System &sys) {
       B.at[s] = (f & SweepBlock::trans) ? -B.at[s] : 0.;
 #endif
     }
-    if (any_flags & SweepBlock::radial)
+    // (then the noise amplitudes sqrt(12 kT/mu (1 - a^2)), 4 at a time,
+    // and a - 1; sqrt(12): xi has variance 1/12. Lanes without the
+    // friction compute from stale kT/mu, unused.)
+    if (any_flags & SweepBlock::radial) {
       exp_neg_block(B.ar.data(), B.ar.data(), b.size);
+      ou_amplitude_block(B.ar.data(), B.kT_mu.data(), b.size, B.sd.data(), B.ar.data());
+    }
 #ifdef TRANS_DPD
     if (any_flags & SweepBlock::trans)
       exp_neg_block(B.at.data(), B.at.data(), b.size);
@@ -311,10 +321,11 @@ void shardlow_sweep(System &sys) {
     for (int s = 0; s < b.size; ++s) {
       unsigned const f = B.flags[s];
       if (f & SweepBlock::radial) {
-        double const a = B.ar[s];
-        double const sd = std::sqrt(12. * B.kT_mu[s] * (1. - a * a)); // sqrt(12): xi has variance 1/12
-        B.ar[s] = a - 1.;
-        B.nr[s] = sd * (B.e[s] * xi[s]);
+        B.nr[s] = B.sd[s] * (B.e[s] * xi[s]);
+        if (f & SweepBlock::mu_folded) {
+          B.ar[s] *= B.mu[s];
+          B.nr[s] *= B.mu[s];
+        }
       }
 #ifdef TRANS_DPD
       if (f & SweepBlock::trans) {
@@ -324,10 +335,21 @@ void shardlow_sweep(System &sys) {
         Vector3d const xi_perp = xi[s] - (e * xi[s]) * e;
         B.at[s] = a - 1.;
         B.nt[s] = sd * xi_perp;
+        if (f & SweepBlock::mu_folded) {
+          B.at[s] *= B.mu[s];
+          B.nt[s] *= B.mu[s];
+        }
       }
 #endif
     }
-    // the sequential exact pair updates in list order
+    // the sequential exact pair updates in list order. The velocity of the
+    // row's owner oi is held in registers (vi, for owner ci) while its pairs
+    // follow one another, and written back when the owner changes: the
+    // chain of updates through v_i does not go through memory (a store
+    // forwarded to the next pair's load). oj == oi (a particle's own image,
+    // boxes below twice the cutoff) goes through memory.
+    int ci = -1;
+    Vector3d vi{};
     for (int s = 0; s < b.size; ++s) {
       unsigned const f = B.flags[s];
       if (!(f & SweepBlock::in_range))
@@ -341,24 +363,44 @@ void shardlow_sweep(System &sys) {
       if (f & SweepBlock::dpd) {
         int const oi = B.oi[s], oj = B.oj[s];
         Vector3d const &e = B.e[s];
-        Vector3d const vij = jump ? ps.v[oi] - ps.v[oj] + vjump : ps.v[oi] - ps.v[oj];
-        double const u = e * vij;
-        Vector3d du{};
-        if (f & SweepBlock::radial)
-          du = (B.ar[s] * u + B.nr[s]) * e;
+        // the pair's momentum change for the velocities vi_, vj_
+        auto momentum = [&](Vector3d const &vi_, Vector3d const &vj_) {
+          Vector3d const vij = jump ? vi_ - vj_ + vjump : vi_ - vj_;
+          double const u = e * vij;
+          Vector3d du{};
+          if (f & SweepBlock::radial)
+            du = (B.ar[s] * u + B.nr[s]) * e;
 #ifdef TRANS_DPD
-        if (f & SweepBlock::trans) {
-          Vector3d const u_perp = vij - u * e;
-          du += B.at[s] * u_perp + B.nt[s];
-        }
+          if (f & SweepBlock::trans) {
+            Vector3d const u_perp = vij - u * e;
+            du += B.at[s] * u_perp + B.nt[s];
+          }
 #endif
-        Vector3d const dp = B.mu[s] * du;
-        if (f & SweepBlock::unit_masses) {
-          ps.v[oi] += dp;
-          ps.v[oj] -= dp;
+          return (f & SweepBlock::mu_folded) ? du : B.mu[s] * du;
+        };
+        if (oj == oi) { // (a particle and its own image) in memory
+          if (ci >= 0)
+            ps.v[ci] = vi;
+          ci = -1;
+          Vector3d const dp = momentum(ps.v[oi], ps.v[oj]);
+          ps.v[oi] += (f & SweepBlock::unit_masses) ? dp : dp / B.mi[s];
+          ps.v[oj] -= (f & SweepBlock::unit_masses) ? dp : dp / B.mj[s];
         } else {
-          ps.v[oi] += dp / B.mi[s];
-          ps.v[oj] -= dp / B.mj[s];
+          if (oi != ci) {
+            if (ci >= 0)
+              ps.v[ci] = vi;
+            ci = oi;
+            vi = ps.v[oi];
+          }
+          Vector3d const vj = ps.v[oj];
+          Vector3d const dp = momentum(vi, vj);
+          if (f & SweepBlock::unit_masses) {
+            vi += dp;
+            ps.v[oj] = vj - dp;
+          } else {
+            vi += dp / B.mi[s];
+            ps.v[oj] = vj - dp / B.mj[s];
+          }
         }
       }
 #if defined(TRANS_DPD) || defined(LUBRICATION)
@@ -370,6 +412,10 @@ void shardlow_sweep(System &sys) {
           any_lub ||
 #endif
           false) {
+        // (these read and write the owners' velocities in memory)
+        if (ci >= 0)
+          ps.v[ci] = vi;
+        ci = -1;
         IAParams const &pair = ia.get(ps.type[i], ps.type[j]);
         Vector3d const d{D.dx[s], D.dy[s], D.dz[s]}; // ps.pos[i] - ps.pos[j] (the select's bits)
         [[maybe_unused]] double const r2 = d.norm2();
@@ -410,6 +456,8 @@ void shardlow_sweep(System &sys) {
       }
 #endif
     }
+    if (ci >= 0)
+      ps.v[ci] = vi;
   });
 #ifdef MARBLE
   // then the marble colloids' surface coupling, pair by pair in the colloid

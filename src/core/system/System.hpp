@@ -341,6 +341,7 @@ private:
    * its own sweep and reduction. */
   int m_displacement_hint = -1;
   std::vector<double> m_half_dt_over_m; // drift_checked's 0.5 dt / m per local
+  std::vector<Utils::Vector3d> m_respa_end_pos; // respa_member_substeps: outside particles' positions after the substeps
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
   /** Configure the cell system's large-range types for a rebuild; returns
