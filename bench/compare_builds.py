@@ -9,8 +9,12 @@ hits both alike. Each process sets up one case, relaxes it and times
 integrator.run(steps); the figure is particle-steps per CPU-second of that
 process (process CPU time: the one-core throughput even on a shared
 machine). Reported: the median of the rounds per build and their ratio, and the
-range of the per-round ratios (each round's two runs are back to back).
-Writes bench/results/compare_builds.json.
+range and median of the per-round ratios (each round's two runs are back to
+back) with a 68 % bootstrap interval of that median. With --side-by-side the
+two builds' processes of a round run at the same time, each pinned to its own
+core, the cores swapped every round: on a machine whose speed drifts (a
+virtual machine's host) the per-round ratios scatter less (session 17: 0.95-1.13
+against 0.84-1.23 in sequence). Writes bench/results/compare_builds.json.
 
 Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
 L = 20: 24 000 beads), Groot-Warren water (a = 25, gamma = 4.5), the LJ fluid of
