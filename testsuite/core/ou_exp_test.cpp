@@ -72,6 +72,15 @@ std::vector<double> special_values() {
           -745.2, -746.,  -1000., -1e300, -inf};
 }
 
+/** A list of code paths: "scalar" first, then "avx2" exactly where the CPU has it. */
+template <class Paths> void expect_scalar_then_avx2(Paths const &paths) {
+  ASSERT_GE(paths.size(), 1u);
+  EXPECT_STREQ(paths[0].first, "scalar");
+#if defined(__x86_64__) && defined(__GNUC__)
+  EXPECT_EQ(paths.size(), __builtin_cpu_supports("avx2") ? 2u : 1u);
+#endif
+}
+
 TEST(OuExp, WithinOneUlpOfExpl) {
   auto x = arguments();
   auto const sv = special_values();
@@ -128,11 +137,7 @@ TEST(OuExp, NonIncreasingOnSortedArguments) {
 
 TEST(OuExp, PathsGiveTheSameBits) {
   auto const paths = Marble::exp_neg_paths();
-  ASSERT_GE(paths.size(), 1u);
-  EXPECT_STREQ(paths[0].first, "scalar");
-#if defined(__x86_64__) && defined(__GNUC__)
-  EXPECT_EQ(paths.size(), __builtin_cpu_supports("avx2") ? 2u : 1u);
-#endif
+  expect_scalar_then_avx2(paths);
   auto x = arguments();
   auto const sv = special_values();
   x.insert(x.end(), sv.begin(), sv.end());
@@ -191,11 +196,7 @@ TEST(OuExp, BlocksOfAnyLength) {
 // length, in place (am1 = a) as the sweep calls it, and writes nothing past n.
 TEST(OuAmplitude, PathsGiveTheScalarBits) {
   auto const paths = Marble::ou_amplitude_paths();
-  ASSERT_GE(paths.size(), 1u);
-  EXPECT_STREQ(paths[0].first, "scalar");
-#if defined(__x86_64__) && defined(__GNUC__)
-  EXPECT_EQ(paths.size(), __builtin_cpu_supports("avx2") ? 2u : 1u);
-#endif
+  expect_scalar_then_avx2(paths);
   std::vector<std::pair<char const *, Marble::OUAmplitudeBlockFn>> fns = paths;
   fns.emplace_back("ou_amplitude_block", &Marble::ou_amplitude_block);
   std::mt19937_64 rng(17);
