@@ -545,9 +545,16 @@ int System::respa_member_substeps(double h) {
   if (m_comm.max(bad_k >= 0 ? 2 : 0) == 2)
     refuse_step(out[bad_k].bad, out[bad_k].bad_disp2, h, n_sub);
   // the outside particles' substeps [k0, k1)
+  // (all n_sub of them: the plain particles from the end positions of (1))
   auto advance_outside = [&](int k0, int k1) {
+    bool const all = k0 == 0 && k1 == n_sub;
     for_each_outside([&](int i) {
       double const m = m_ps.get_mass(i);
+      if (all && plain(i, m)) {
+        v[i] += zero; // (v + 0 + 0 = v + 0)
+        x[i] = x_end[i];
+        return;
+      }
       for (int k = k0; k < k1; ++k) {
         Vector3d dv, dx;
         kick_drift_of(m_ps, i, a_out(m, k), zero, v[i], h, dv, dx);
@@ -596,21 +603,7 @@ int System::respa_member_substeps(double h) {
     }
     compute_fast_forces();
   }
-  // all the substeps of the outside particles: the plain ones from (1)
-  for_each_outside([&](int i) {
-    double const m = m_ps.get_mass(i);
-    if (plain(i, m)) {
-      v[i] += zero; // (v + 0 + 0 = v + 0)
-      x[i] = x_end[i];
-      return;
-    }
-    for (int k = 0; k < n_sub; ++k) {
-      Vector3d dv, dx;
-      kick_drift_of(m_ps, i, a_out(m, k), zero, v[i], h, dv, dx);
-      v[i] += dv;
-      x[i] += dx;
-    }
-  });
+  advance_outside(0, n_sub);
   return n_sub;
 #else
   (void)h;
