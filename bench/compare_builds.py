@@ -26,6 +26,15 @@ the marble under the Shardlow integrator at dt = 0.04, and fig4: the scene
 of the paper's Fig. 4 as samples/marble_diffusion_vs_gamma.py --paper runs it
 (Shardlow at dt = 0.06 with 3 RESPA substeps, skin 0.6). For these the rate
 is also printed as CPU-s per tau: N / (rate dt).
+
+One more case measures whole runs rather than steps: fig4_run runs each build's
+own samples/marble_diffusion_vs_gamma.py (found through the build's
+CMakeCache.txt) at the --paper settings for one (gamma = 2, seed 1) run,
+shortened to --sample-time tau of equilibrium run (default 2500, half the
+paper's) and a fifth of that of drag: set-up, correlators and analysis
+included. Its figure is runs per CPU-second (the sample's own cpu_s of the run);
+the CPU-s per run are printed as well. Use it with --side-by-side (two runs at
+once, one per core): one round takes ~10 minutes on the development machine.
 """
 import argparse
 import json
@@ -42,11 +51,48 @@ CASES = ("dpd_a0_g5", "dpd_a25_g4.5", "lj", "marble")
 # not in the default set: the Shardlow integrator at dt = 0.04 (doc/speed-accuracy.md's choice for
 # the paper solvent) on the paper solvent alone and with the R = 3 marble (session 11)
 SHARDLOW_CASES = ("shardlow_a0_g5", "shardlow_marble", "fig4")
+# whole runs of the build's own Fig. 4 sample (session 18)
+SAMPLE_CASES = ("fig4_run",)
 # fig4: the scene of the paper's Fig. 4 as samples/marble_diffusion_vs_gamma.py --paper runs it
 # (colloid_runs.make_system: R = 3 marble, L = 20, gamma = 1, Shardlow dt = 0.06, 3 RESPA substeps,
 # skin 0.6; session 15)
 N_PARTICLES = {}  # case -> particle count of its last worker
 DT = {}  # case -> time step of its last worker
+
+
+def sample_worker(case, sample, sample_time):
+    """Run the build's own Fig. 4 sample (@p sample) in this process for one
+    (gamma, seed) at the --paper settings, @p sample_time tau of equilibrium run;
+    print its CPU time as JSON."""
+    import runpy
+
+    import marble
+    out = tempfile.mkdtemp(prefix="marble-fig4-run-")
+    try:
+        sys.argv = [sample, "--paper", "--integrator", "shardlow", "--eta", "1.273", "--gammas", "2.0",
+                    "--seeds", "1", "--time", str(sample_time), "--drag-time", str(sample_time / 5),
+                    "--out", out]
+        sys.path.insert(0, os.path.dirname(sample))
+        runpy.run_path(sample, run_name="__main__")
+        with open(os.path.join(out, "marble_diffusion_vs_gamma.json")) as f:
+            run = json.load(f)["runs"][0]
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    print(json.dumps({"case": case, "rate": 1.0 / run["cpu_s"], "cpu_s": run["cpu_s"], "D_drag": run["D_drag"],
+                      "module": os.path.realpath(marble.__file__)}))
+
+
+def source_dir(launcher):
+    """The source tree of the build of @p launcher (its CMakeCache.txt)."""
+    cache = os.path.join(os.path.dirname(launcher), "CMakeCache.txt")
+    try:
+        with open(cache) as f:
+            for line in f:
+                if line.startswith("CMAKE_HOME_DIRECTORY:"):
+                    return line.split("=", 1)[1].strip()
+    except OSError:
+        pass
+    raise SystemExit(f"fig4_run runs the build's own sample: no source directory in {cache}")
 
 
 def worker(case, steps):
@@ -105,16 +151,21 @@ def build_ref(ref, where):
     return os.path.join(bld, "pymarble")
 
 
-def start_case(launcher, case, steps, cpu=None):
+def start_case(launcher, case, steps, cpu=None, sample_time=2500.0):
     """A fresh process of @p launcher (a build's pymarble) running @p case,
-    pinned to core @p cpu if given.
+    pinned to core @p cpu if given (fig4_run: the build's own sample for
+    @p sample_time tau).
 
     The child gets no inherited PYTHONPATH (pymarble appends it to its own, so
     a build without its Python package would silently import this process's
     marble), and the module it imported must lie in the launcher's build."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     pin = None if cpu is None else (lambda: os.sched_setaffinity(0, {cpu}))
-    return subprocess.Popen([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)],
+    extra = []
+    if case in SAMPLE_CASES:
+        extra = ["--sample", os.path.join(source_dir(launcher), "samples", "marble_diffusion_vs_gamma.py"),
+                 "--sample-time", str(sample_time)]
+    return subprocess.Popen([launcher, os.path.abspath(__file__), "--worker", case, "--steps", str(steps)] + extra,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             preexec_fn=pin)
 
@@ -156,10 +207,17 @@ def main(argv=None):
                          "(the cores swapped every round): drifts of the machine's speed hit both alike")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--out-name", default="compare_builds.json", help=argparse.SUPPRESS)
+    ap.add_argument("--sample-time", type=float, default=2500.0,
+                    help="fig4_run: tau of equilibrium run per run (drag: a fifth of it; default 2500)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--sample", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
+        if args.worker in SAMPLE_CASES:
+            return sample_worker(args.worker, args.sample, args.sample_time)
         return worker(args.worker, args.steps)
+    if not args.sample_time > 0:
+        raise SystemExit(f"--sample-time must be > 0 tau, got {args.sample_time}")
     current = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
         __import__("marble").__file__))), os.pardir, os.pardir, "pymarble")
     current = os.path.normpath(current)
@@ -180,13 +238,14 @@ def main(argv=None):
                     if len(cores) < 2:
                         raise SystemExit("--side-by-side needs two cores")
                     pair = (cores[r % 2], cores[(r + 1) % 2])
-                    procs = {who: start_case(launcher, c, args.steps, cpu)
+                    procs = {who: start_case(launcher, c, args.steps, cpu, args.sample_time)
                              for (who, launcher), cpu in zip((("current", current), ("baseline", base)), pair)}
                     for who, launcher in (("current", current), ("baseline", base)):
                         samples[c][who].append(run_case(launcher, c, args.steps, procs[who]))
                     continue
                 for who, launcher in (("current", current), ("baseline", base)):
-                    samples[c][who].append(run_case(launcher, c, args.steps))
+                    samples[c][who].append(run_case(launcher, c, args.steps,
+                                                    start_case(launcher, c, args.steps, None, args.sample_time)))
             print(f"round {r + 1}/{args.rounds}: " + ", ".join(
                 f"{c} {samples[c]['current'][-1]:.3g}/{samples[c]['baseline'][-1]:.3g}" for c in cases),
                 flush=True)
@@ -198,7 +257,7 @@ def main(argv=None):
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
            "side_by_side": bool(args.side_by_side), "cases": {}}
     how = "side-by-side" if args.side_by_side else "interleaved"
-    print(f"\nparticle-steps per CPU-second, median of {args.rounds} {how} rounds")
+    print(f"\nparticle-steps per CPU-second (fig4_run: runs per CPU-second), median of {args.rounds} {how} rounds")
     print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios: "
           "min-max, median (68 % bootstrap interval)")
     for c in cases:
@@ -215,6 +274,12 @@ def main(argv=None):
             tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * DT[c]) for w in ("current", "baseline")}
             out["cases"][c]["cpu_s_per_tau"] = tau
             print(f"{'':14s} CPU-s per tau: {tau['current']:.4f} (current), {tau['baseline']:.4f} (baseline)")
+        if c in SAMPLE_CASES:  # the rate is runs per CPU-second: its inverse, CPU-s per run
+            per_run = {w: [1.0 / x for x in samples[c][w]] for w in ("current", "baseline")}
+            out["cases"][c]["cpu_s_per_run"] = per_run
+            out["sample_time"] = args.sample_time
+            print(f"{'':14s} CPU-s per run: {statistics.median(per_run['current']):.0f} (current), "
+                  f"{statistics.median(per_run['baseline']):.0f} (baseline)")
     if "marble" in cases and "dpd_a0_g5" in cases:
         for w in ("current", "baseline"):
             ov = out["cases"]["dpd_a0_g5"][w] / out["cases"]["marble"][w]
