@@ -10,8 +10,10 @@ interleaved (1 2 1 2 ...) so that load from other processes hits them alike.
 Reported per case: median particle-steps per wall-second, and the parallel
 efficiency E = t_1 / (N t_N) of the medians. On a shared machine E is only
 meaningful when N cores are free: the JSON records the load average before
-and after. Two CPU-time efficiencies are reported as well, which a busy
-machine disturbs much less (every rank records its process CPU time and,
+and after, and (from /proc/stat) the share of the cores that other processes
+used while the bench ran and the share the virtual machine's host stole; the
+run counts as idle when the others used less than 5 %. Two CPU-time
+efficiencies are reported as well, which a busy machine disturbs much less (every rank records its process CPU time and,
 from `_core.comm_stats()`, the CPU time it spent inside MPI calls):
   E_cpu  = cpu_1 / sum_r cpu_r: all CPU time, the polling waits included
            (Open MPI polls, so a rank waiting for a descheduled partner
@@ -67,6 +69,36 @@ def worker(L, steps, rounds, out):
                        ranks=marble.mpi_size(), node_grid=list(s.cell_system.node_grid)), f)
 
 
+def cpu_counters():
+    """Machine-wide busy and stolen CPU seconds (/proc/stat; None elsewhere), this
+    process's CPU seconds with its waited-for children (the mpiexec launches and
+    their ranks), and the wall clock."""
+    import resource
+    own = sum(getattr(resource.getrusage(w), f) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+              for f in ("ru_utime", "ru_stime"))
+    busy = steal = None
+    try:
+        with open("/proc/stat") as f:
+            v = [int(x) for x in f.readline().split()[1:]]
+        tick = os.sysconf("SC_CLK_TCK")
+        # user nice system idle iowait irq softirq steal ...
+        busy = (v[0] + v[1] + v[2] + v[5] + v[6]) / tick
+        steal = (v[7] if len(v) > 7 else 0) / tick
+    except (OSError, ValueError, IndexError):
+        pass
+    return dict(busy=busy, steal=steal, own=own, wall=time.time())
+
+
+def others_share(c0, c1):
+    """The CPU time of other processes between two cpu_counters() readings, and
+    the time the host stole, as fractions of all cores' wall time (None: no /proc/stat)."""
+    if c0["busy"] is None or c1["busy"] is None:
+        return None, None
+    cap = (c1["wall"] - c0["wall"]) * os.cpu_count()
+    others = max(0.0, (c1["busy"] - c0["busy"]) - (c1["own"] - c0["own"]))
+    return others / cap, (c1["steal"] - c0["steal"]) / cap
+
+
 def launch(ranks, L, steps, rounds):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
@@ -108,6 +140,7 @@ def main():
     from bench_common import machine_info
     machine = machine_info()
     machine["load_avg_before"] = machine.pop("load_avg")
+    counters0 = cpu_counters()
     res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
                launches=a.launches, rounds_per_launch=rounds, cases={})
@@ -154,6 +187,11 @@ def main():
                                      comm_wall_share_range=[min(comm_share[n]), max(comm_share[n])])
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
+    others, stolen = others_share(counters0, cpu_counters())
+    # the idle test: what other processes used while the bench ran (the load
+    # average lags by a minute and counts the bench's own ranks)
+    res["machine"]["others_cpu_share"] = others
+    res["machine"]["stolen_cpu_share"] = stolen
     os.makedirs(a.out, exist_ok=True)
     name = a.name or ("mpi_scaling_quick" if a.quick else "mpi_scaling")
     with open(os.path.join(a.out, name + ".json"), "w") as f:
@@ -168,6 +206,12 @@ def main():
     # with the bench's ranks subtracted, for information
     la = res["machine"]["load_avg_before"][0], res["machine"]["load_avg_after"][0]
     la_after_others = max(0.0, la[1] - max(a.ranks))
+    if others is None:  # no /proc/stat: the load average before the bench decides
+        busy, how = la[0] > 0.5, ""
+    else:
+        busy = others > 0.05
+        how = (f"; other processes used {100 * others:.1f} % of the cores during the bench, the host "
+               f"stole {100 * stolen:.1f} %")
     summary = []
     for key, c in res["cases"].items():
         for n in a.ranks[1:]:
@@ -182,8 +226,8 @@ def main():
                            f"{e['comm_wall_share']:.2f} of the wall time")
     print("EFFICIENCY: " + "; ".join(summary) +
           f"; load average {la[0]:.1f} before, {la[1]:.1f} after ({la_after_others:.1f} without the "
-          f"bench's {max(a.ranks)} ranks) on {os.cpu_count()} cores"
-          + (" (machine busy: not an idle measurement)" if la[0] > 0.5 else ""))
+          f"bench's {max(a.ranks)} ranks) on {os.cpu_count()} cores" + how
+          + (" (machine busy: not an idle measurement)" if busy else ""))
     try:
         import matplotlib
         matplotlib.use("Agg")
