@@ -183,6 +183,26 @@ def test_huge_time_step_blow_up_and_recover():
     np.testing.assert_allclose(p.pos[:, 0], before[1][:, 0] + 0.1 * before[2][:, 0], atol=1e-12)
 
 
+@skipIfMissingFeatures("LENNARD_JONES")
+def test_non_finite_force_fails_the_same_way_again():
+    """A force that overflows (two particles 1e-30 apart under LJ) stops the run
+    with the non-finite force message; the forces are marked invalid, so the
+    next run recomputes them and stops with the same message (not a second,
+    misleading one about velocities); separated, the particles run on."""
+    s = marble.System(box_l=[5.0] * 3, time_step=0.01)
+    s.cell_system.skin = 0.3
+    s.part.add(pos=[[1.0, 1.0, 1e-30], [1.0, 1.0, 2e-30]])
+    s.non_bonded_inter[0, 0].lennard_jones.set_params(epsilon=1.0, sigma=1.0, cutoff=2.5)
+    for _ in range(2):
+        with pytest.raises(RuntimeError, match="non-finite force on particle 0 at step 0"):
+            s.integrator.run(5)
+        assert s.step == 0
+        assert np.all(np.isfinite(s.part.all().pos)) and np.all(np.isfinite(s.part.all().v))
+    s.part.by_id(1).pos = [2.2, 1.0, 0.0]
+    assert s.integrator.run(5) == 5
+    assert np.all(np.isfinite(s.part.all().f)) and np.all(np.isfinite(s.part.all().v))
+
+
 @skipIfMissingFeatures("EXTERNAL_FORCE")
 def test_no_silent_nan_from_overflowing_force():
     s = marble.System(box_l=[10.0] * 3, time_step=0.01)

@@ -220,7 +220,29 @@ constexpr auto loops = make_loops(std::make_index_sequence<std::size_t{1} << n_p
 
 } // namespace
 
-void System::compute_forces(bool with_thermostat) {
+void System::compute_forces(bool with_thermostat) { compute_forces_pass(with_thermostat, nullptr); }
+
+namespace {
+/** 1 if @p v holds an inf or a NaN (branchless: the pass over all locals vectorises). */
+inline int not_finite(Utils::Vector3d const &v) {
+  double const big = std::numeric_limits<double>::max();
+  return (!(std::abs(v[0]) <= big) ? 1 : 0) | (!(std::abs(v[1]) <= big) ? 1 : 0) |
+         (!(std::abs(v[2]) <= big) ? 1 : 0);
+}
+} // namespace
+
+void System::compute_forces_checked(bool with_thermostat) {
+  int bad = -1;
+  compute_forces_pass(with_thermostat, &bad);
+  try {
+    m_comm.throw_if_any(bad >= 0 ? non_finite_force_message(bad) : std::string());
+  } catch (...) {
+    m_forces_valid = false;
+    throw;
+  }
+}
+
+void System::compute_forces_pass(bool with_thermostat, int *first_bad) {
   ensure_lists();
   // the pair loop sets every force (m_ps.f need not be zeroed here)
 #ifdef ROTATION
@@ -241,15 +263,68 @@ void System::compute_forces(bool with_thermostat) {
   m_cells.reduce_ghost_forces(m_ps);
   if (with_thermostat && m_thermo.langevin.active) // single-particle Langevin friction + noise
     add_langevin_forces(m_ps, m_thermo.langevin, m_time_step);
-#ifdef EXTERNAL_FORCE
-  for (int i = 0; i < m_ps.n_local(); ++i) {
-    m_ps.f[i] += m_ps.ext_force[i];
+  int const n = m_ps.n_local();
+  auto *const f = m_ps.f.data();
 #ifdef ROTATION
-    m_ps.torque[i] += m_ps.ext_torque[i];
+  auto *const t = m_ps.torque.data();
 #endif
+  int any_bad = 0;
+#ifdef EXTERNAL_FORCE
+  // the last pass over the forces: with first_bad it also tests them (the
+  // final values), as check_forces_finite would in a pass of its own
+  auto const *const ef = m_ps.ext_force.data();
+#ifdef ROTATION
+  auto const *const et = m_ps.ext_torque.data();
+#endif
+  if (first_bad) {
+    for (int i = 0; i < n; ++i) {
+      f[i] += ef[i];
+      any_bad |= not_finite(f[i]);
+#ifdef ROTATION
+      t[i] += et[i];
+      any_bad |= not_finite(t[i]);
+#endif
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      f[i] += ef[i];
+#ifdef ROTATION
+      t[i] += et[i];
+#endif
+    }
+  }
+#else
+  if (first_bad) {
+    for (int i = 0; i < n; ++i) {
+      any_bad |= not_finite(f[i]);
+#ifdef ROTATION
+      any_bad |= not_finite(t[i]);
+#endif
+    }
   }
 #endif
+  if (first_bad) {
+    *first_bad = -1;
+    for (int i = 0; any_bad && i < n; ++i) { // the first bad local, for the message
+#ifdef ROTATION
+      bool const bad = not_finite(f[i]) || not_finite(t[i]);
+#else
+      bool const bad = not_finite(f[i]);
+#endif
+      if (bad) {
+        *first_bad = i;
+        break;
+      }
+    }
+  }
   m_forces_valid = true;
+}
+
+std::string System::non_finite_force_message(int i) const {
+  return "non-finite force on particle " + std::to_string(m_ps.id[i]) + " at step " + std::to_string(m_step) +
+         ": likely cause: overlapping particles (a singular potential at r -> 0) or a "
+         "time step too large for the interactions; remove overlaps with "
+         "integrator.set_steepest_descent() or reduce time_step";
 }
 
 void System::compute_fast_forces() {
@@ -285,44 +360,6 @@ void System::compute_fast_forces() {
     }
   };
   for_each_fast_member(check);
-}
-
-void System::check_forces_finite() const {
-  std::string msg;
-  // a branchless pass first (it vectorises): all finite, the common case;
-  // the loop below names the first bad particle
-  int any_bad = 0;
-  {
-    int const n = m_ps.n_local();
-    double const big = std::numeric_limits<double>::max();
-    auto const *const f = m_ps.f.data();
-    auto const not_finite = [big](Utils::Vector3d const &v) { // inf or NaN
-      return (!(std::abs(v[0]) <= big) ? 1 : 0) | (!(std::abs(v[1]) <= big) ? 1 : 0) |
-             (!(std::abs(v[2]) <= big) ? 1 : 0);
-    };
-    for (int i = 0; i < n; ++i)
-      any_bad |= not_finite(f[i]);
-#ifdef ROTATION
-    auto const *const t = m_ps.torque.data();
-    for (int i = 0; i < n; ++i)
-      any_bad |= not_finite(t[i]);
-#endif
-  }
-  for (int i = 0; any_bad && i < m_ps.n_local(); ++i) {
-    bool bad = !Utils::isfinite(m_ps.f[i]);
-#ifdef ROTATION
-    bad = bad || !Utils::isfinite(m_ps.torque[i]);
-#endif
-    if (bad) {
-      msg = "non-finite force on particle " + std::to_string(m_ps.id[i]) + " at step " +
-            std::to_string(m_step) +
-            ": likely cause: overlapping particles (a singular potential at r -> 0) or a "
-            "time step too large for the interactions; remove overlaps with "
-            "integrator.set_steepest_descent() or reduce time_step";
-      break;
-    }
-  }
-  m_comm.throw_if_any(msg); // on every rank, so none waits in a collective call
 }
 
 } // namespace Marble

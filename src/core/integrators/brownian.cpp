@@ -40,10 +40,8 @@ int System::run_bd(int n_steps) {
     }
     m_comm.throw_if_any(msg);
   }
-  if (!m_forces_valid || n_steps == 0) {
-    compute_forces(false);
-    check_forces_finite();
-  }
+  if (!m_forces_valid || n_steps == 0)
+    compute_forces_checked(false);
   double const max2 = m_cells.skin() * m_cells.skin();
   for (int s = 0; s < n_steps; ++s) {
     std::uint64_t const c = th.philox_counter;
@@ -112,13 +110,7 @@ int System::run_bd(int n_steps) {
     ++m_thermo.dpd.philox_counter; // keeps the DPD stream in step with the step counter
 #endif
     ++m_thermo.langevin.philox_counter;
-    compute_forces(false);
-    try {
-      check_forces_finite();
-    } catch (...) {
-      m_forces_valid = false;
-      throw;
-    }
+    compute_forces_checked(false); // (m_forces_valid false if it throws)
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);

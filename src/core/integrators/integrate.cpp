@@ -308,10 +308,8 @@ int System::run_md(int n_steps) {
   if (m_time_step <= 0.)
     throw Utils::RuntimeError("time_step is not set: set system.time_step > 0 before running");
   update_thermostat_prefactors();
-  if (!m_forces_valid || n_steps == 0) {
-    compute_forces(true);
-    check_forces_finite();
-  }
+  if (!m_forces_valid || n_steps == 0)
+    compute_forces_checked(true);
   [[maybe_unused]] std::vector<Vector3d> dv;
   // Plain velocity Verlet: a step's closing half kick is done by the next
   // step's first sweep (drift_checked(true)) unless something reads the
@@ -338,13 +336,7 @@ int System::run_md(int n_steps) {
     ++m_thermo.dpd.philox_counter;
 #endif
     ++m_thermo.langevin.philox_counter;
-    compute_forces(true);
-    try {
-      check_forces_finite();
-    } catch (...) {
-      m_forces_valid = false;
-      throw;
-    }
+    compute_forces_checked(true); // (m_forces_valid false if it throws)
 #ifdef DPD
     if (m_integrator == IntegratorKind::DPDVV) {
       int const n = m_ps.n_local();
@@ -621,10 +613,8 @@ int System::run_md_respa(int n_steps) {
     explicit ExcludeFast(bool &f) : flag(f) { flag = true; }
     ~ExcludeFast() { flag = false; }
   };
-  if (!m_forces_valid || n_steps == 0) {
-    compute_forces(true); // all forces: F_s + F_f
-    check_forces_finite();
-  }
+  if (!m_forces_valid || n_steps == 0)
+    compute_forces_checked(true); // all forces: F_s + F_f
   if (n_steps == 0)
     return 0;
   int const n_sub = m_substeps;
@@ -669,10 +659,9 @@ int System::run_md_respa(int n_steps) {
     ++m_thermo.langevin.philox_counter;
     {
       ExcludeFast const guard(m_exclude_fast);
-      compute_forces(true); // F_s (ensure_lists may rebuild: before F_f)
+      compute_forces_checked(true); // F_s (ensure_lists may rebuild: before F_f)
     }
     try {
-      check_forces_finite();
       compute_fast_forces();
     } catch (...) {
       m_forces_valid = false;
@@ -697,8 +686,7 @@ int System::run_sd(int n_steps) {
   auto const &p = m_sd;
   int done = 0;
   for (; done < n_steps; ++done) {
-    compute_forces(false);
-    check_forces_finite();
+    compute_forces_checked(false);
     double fmax2 = 0.;
     for (int i = 0; i < m_ps.n_local(); ++i) {
       Vector3d f = m_ps.f[i];

@@ -273,7 +273,15 @@ public:
   std::vector<char> const &large_range_types_requested() const { return m_large_range_types; }
 
 private:
-  void check_forces_finite() const;
+  /** compute_forces(@p with_thermostat), then a collective check that every
+   * local force and torque is finite (a RuntimeError naming the particle and
+   * the step; m_forces_valid false), tested inside compute_forces' last pass
+   * over the locals (the external forces' addition), not in a pass of its own. */
+  void compute_forces_checked(bool with_thermostat);
+  /** compute_forces' body; @p first_bad (if given) gets the first local
+   * whose force or torque is not finite (-1: none). */
+  void compute_forces_pass(bool with_thermostat, int *first_bad);
+  std::string non_finite_force_message(int i) const;
   int run_md(int n_steps); // VV, Shardlow, DPD-VV
   int run_md_respa(int n_steps); // VV, Shardlow with substeps > 1
   int run_sd(int n_steps);
