@@ -170,9 +170,9 @@ def start_case(launcher, case, steps, cpu=None, sample_time=2500.0):
                             preexec_fn=pin)
 
 
-def run_case(launcher, case, steps, proc=None):
-    """Rate of @p case in a fresh process of @p launcher (or of its started process @p proc)."""
-    p = proc or start_case(launcher, case, steps)
+def run_case(launcher, case, steps, proc):
+    """Rate of @p case from its process @p proc of @p launcher (start_case)."""
+    p = proc
     stdout, stderr = p.communicate()
     if p.returncode != 0:
         raise RuntimeError(f"{launcher} failed on case {case} (exit {p.returncode}):\n{stderr[-2000:]}")

@@ -13,8 +13,9 @@ meaningful when N cores are free: the JSON records the load average before
 and after, and (from /proc/stat) the share of the cores that other processes
 used while the bench ran and the share the virtual machine's host stole; the
 run counts as idle when the others used less than 5 %. Two CPU-time
-efficiencies are reported as well, which a busy machine disturbs much less (every rank records its process CPU time and,
-from `_core.comm_stats()`, the CPU time it spent inside MPI calls):
+efficiencies are reported as well, which a busy machine disturbs much less
+(every rank records its process CPU time and, from `_core.comm_stats()`, the
+CPU time it spent inside MPI calls):
   E_cpu  = cpu_1 / sum_r cpu_r: all CPU time, the polling waits included
            (Open MPI polls, so a rank waiting for a descheduled partner
            burns CPU: a lower bound on a busy machine);

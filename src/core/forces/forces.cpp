@@ -263,46 +263,38 @@ void System::compute_forces_pass(bool with_thermostat, int *first_bad) {
   m_cells.reduce_ghost_forces(m_ps);
   if (with_thermostat && m_thermo.langevin.active) // single-particle Langevin friction + noise
     add_langevin_forces(m_ps, m_thermo.langevin, m_time_step);
+  // The last pass over the forces: the external forces added, and every
+  // final force and torque tested (branchless; only compute_forces_checked
+  // reads the result, and without external forces the pass runs only for it)
   int const n = m_ps.n_local();
   auto *const f = m_ps.f.data();
 #ifdef ROTATION
   auto *const t = m_ps.torque.data();
 #endif
-  int any_bad = 0;
 #ifdef EXTERNAL_FORCE
-  // the last pass over the forces: with first_bad it also tests them (the
-  // final values), as check_forces_finite would in a pass of its own
   auto const *const ef = m_ps.ext_force.data();
 #ifdef ROTATION
   auto const *const et = m_ps.ext_torque.data();
 #endif
-  if (first_bad) {
-    for (int i = 0; i < n; ++i) {
-      f[i] += ef[i];
-      any_bad |= not_finite(f[i]);
-#ifdef ROTATION
-      t[i] += et[i];
-      any_bad |= not_finite(t[i]);
-#endif
-    }
-  } else {
-    for (int i = 0; i < n; ++i) {
-      f[i] += ef[i];
-#ifdef ROTATION
-      t[i] += et[i];
-#endif
-    }
-  }
+  bool const pass = true;
 #else
-  if (first_bad) {
+  bool const pass = first_bad != nullptr;
+#endif
+  int any_bad = 0;
+  if (pass) {
     for (int i = 0; i < n; ++i) {
+#ifdef EXTERNAL_FORCE
+      f[i] += ef[i];
+#endif
       any_bad |= not_finite(f[i]);
 #ifdef ROTATION
+#ifdef EXTERNAL_FORCE
+      t[i] += et[i];
+#endif
       any_bad |= not_finite(t[i]);
 #endif
     }
   }
-#endif
   if (first_bad) {
     *first_bad = -1;
     for (int i = 0; any_bad && i < n; ++i) { // the first bad local, for the message
@@ -347,10 +339,8 @@ void System::compute_fast_forces() {
     m_colloids.add_conservative_forces(m_ps, m_ia, m_f_fast);
 #endif
   m_f_fast.resize(static_cast<std::size_t>(n)); // one rank: the colloid pairs hold locals only
-  double const big = std::numeric_limits<double>::max();
   auto check = [&](int i) {
-    auto const &v = m_f_fast[i];
-    if (!(std::abs(v[0]) <= big && std::abs(v[1]) <= big && std::abs(v[2]) <= big)) {
+    if (not_finite(m_f_fast[i])) {
       m_forces_valid = false;
       throw Utils::RuntimeError(
           "non-finite fast (colloid pair) force on particle " + std::to_string(m_ps.id[i]) + " at step " +
