@@ -215,9 +215,51 @@ def scene_shardlow():
 
 
 def scene_respa():
-    """RESPA substeps (integrator.set_vv(substeps=2)) on N ranks: refused (one rank only)."""
+    """RESPA substeps (integrator.set_vv(substeps=3)) with a fast rotating marble
+    crossing the domains: between substeps the ghosts get the new positions and
+    the fast forces on ghosts go back to their owners; the colloid list goes
+    stale inside steps too (mid-step rebuilds, with migration on N ranks)."""
+    s = fluid(8.0, seed=7)
+    col = marble.colloids.add_marble(s, pos=[3.7, 4.0, 4.0], radius=2.0, gamma=5.0)
+    col.v = [6.0, 1.0, 0.0]
+    s.integrator.set_vv(substeps=3)
+    owned0 = set(s.cell_system.local_ids())
+    s.integrator.run(60)
+    owned1 = set(s.cell_system.local_ids())
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, cpos=col.pos,
+                   cv=col.v, comega=col.omega_lab,
+                   rebuilds=np.array(s.cell_system.get_state()["verlet_rebuilds"]),
+                   migrated=np.array(len(owned0 ^ owned1)))
+
+
+def scene_respa_blowup():
+    """A particle far too fast under RESPA (substeps = 3, a marble present):
+    every rank stops in the first substep with the same RuntimeError (no hang),
+    and the system goes on after new velocities."""
+    s = fluid(8.0, seed=7)
+    marble.colloids.add_marble(s, pos=[3.7, 4.0, 4.0], radius=2.0, gamma=5.0)
+    s.integrator.set_vv(substeps=3)
+    s.integrator.run(2)
+    s.part.by_id(7).v = [1e6, 0, 0]
+    try:
+        s.integrator.run(10)
+        msg = "no error"
+    except RuntimeError as e:
+        msg = str(e)
+    # a refused RESPA step keeps what was done before the refusal (the outer
+    # half kick, which gave the fast particle's neighbours its DPD friction):
+    # new velocities for all, and the run goes on
+    parts = s.part.all()
+    parts.v = np.random.default_rng(8).normal(size=(len(parts), 3))
+    s.integrator.run(10)
+    return s, dict(msg=np.array(msg), step=np.array(s.step))
+
+
+def scene_respa_shardlow():
+    """RESPA under Shardlow on N ranks: refused (the sweep is sequential)."""
     s = fluid(4.0)
-    s.integrator.set_vv(substeps=2)
+    s.integrator.set_shardlow(substeps=2)
     try:
         s.integrator.run(1)
         msg = "no error"

@@ -166,6 +166,7 @@ double Communicator::max(double x) const {
   allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MAX);
   return x;
 }
+void Communicator::max_inplace(double *x, int n) const { allreduce(m_stats, m_comm, m_size, x, n, MPI_MAX); }
 double Communicator::min(double x) const {
   allreduce(m_stats, m_comm, m_size, &x, 1, MPI_MIN);
   return x;
@@ -352,6 +353,7 @@ Communicator::Communicator() = default;
 void Communicator::sum_inplace(double *, int) const {}
 void Communicator::sum_inplace(long long *, int) const {}
 double Communicator::max(double x) const { return x; }
+void Communicator::max_inplace(double *, int) const {}
 double Communicator::min(double x) const { return x; }
 int Communicator::max(int x) const { return x; }
 int Communicator::min(int x) const { return x; }

@@ -57,6 +57,8 @@ public:
     return x;
   }
   double max(double x) const;
+  /** Elementwise maximum of @p n values over the ranks, in place. */
+  void max_inplace(double *x, int n) const;
   double min(double x) const;
   int max(int x) const;
   int min(int x) const;

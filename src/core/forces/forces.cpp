@@ -338,15 +338,35 @@ void System::compute_fast_forces() {
   if (m_colloids.any())
     m_colloids.add_conservative_forces(m_ps, m_ia, m_f_fast);
 #endif
-  m_f_fast.resize(static_cast<std::size_t>(n)); // one rank: the colloid pairs hold locals only
+  if (m_comm.parallel()) {
+    // several ranks: pairs with ghosts (beads of other ranks, other ranks'
+    // colloids) leave forces on them, returned to their owners as in compute_forces
+    m_cells.reduce_ghost_values(m_ps, m_f_fast);
+  }
+  m_f_fast.resize(static_cast<std::size_t>(n)); // (one rank: the colloid pairs hold locals only)
+  auto message = [&](int i) {
+    return "non-finite fast (colloid pair) force on particle " + std::to_string(m_ps.id[i]) + " at step " +
+           std::to_string(m_step) +
+           ": likely cause: overlapping particles or a time step too large for the interactions; "
+           "reduce time_step or raise the integrator's substeps";
+  };
+  if (m_comm.parallel()) { // collective: every rank throws (the message of the first bad rank)
+    int bad = -1;
+    for (int i = 0; i < n && bad < 0; ++i)
+      if (not_finite(m_f_fast[i]))
+        bad = i;
+    try {
+      m_comm.throw_if_any(bad >= 0 ? message(bad) : std::string());
+    } catch (...) {
+      m_forces_valid = false;
+      throw;
+    }
+    return;
+  }
   auto check = [&](int i) {
     if (not_finite(m_f_fast[i])) {
       m_forces_valid = false;
-      throw Utils::RuntimeError(
-          "non-finite fast (colloid pair) force on particle " + std::to_string(m_ps.id[i]) + " at step " +
-          std::to_string(m_step) +
-          ": likely cause: overlapping particles or a time step too large for the interactions; "
-          "reduce time_step or raise the integrator's substeps");
+      throw Utils::RuntimeError(message(i));
     }
   };
   for_each_fast_member(check);

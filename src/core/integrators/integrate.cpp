@@ -381,7 +381,9 @@ int System::run_md(int n_steps) {
 //   F_s(x);  v += dt/2 F_s/m;  [Shardlow: the pair sweep, marble coupling included]
 // with the inner half kicks of consecutive substeps merged. Between steps
 // particle.f holds F_s + F_f (as with substeps = 1); the step takes
-// F_s = f - F_f again. One MPI rank (check_scene_before_run).
+// F_s = f - F_f again. Several MPI ranks: velocity Verlet only (Shardlow's
+// sweep is sequential); between substeps the ghosts get the new positions
+// and the fast forces on ghosts go back to their owners.
 
 void System::kick_fast(double kick_dt) {
   auto *const v = m_ps.v.data();
@@ -426,7 +428,17 @@ bool System::drift_checked_substep(double kick_dt, double h) {
     if (!t.add(i, x[i], dx, x0[i], col))
       break;
   }
-  int const vote = m_comm.max(t.bad >= 0 ? 2 : (t.moved ? 1 : 0));
+  int vote = t.bad >= 0 ? 2 : (t.moved ? 1 : 0);
+  if (m_comm.parallel()) {
+    // one reduction for the vote and the largest displacements since the
+    // build: the colloid list's staleness test is global (a colloid pairs
+    // with beads of other ranks), so every rank takes the same decision
+    double r[3] = {static_cast<double>(vote), t.dmax2, t.dcol2};
+    m_comm.max_inplace(r, 3);
+    vote = static_cast<int>(r[0]);
+    t.dmax2 = r[1];
+    t.dcol2 = r[2];
+  }
   if (vote == 2)
     refuse_step(t.bad, t.bad_disp2, h, m_substeps);
   for (int i = 0; i < n; ++i) {
@@ -642,6 +654,8 @@ int System::run_md_respa(int n_steps) {
           if (colloid_list_stale) {
             m_displacement_hint = 1;
             ensure_lists(); // rebuild (the pairs of the colloid list too)
+          } else if (m_comm.parallel()) {
+            m_cells.update_ghosts(m_ps); // the colloid pairs' ghosts at the substep's positions
           }
           compute_fast_forces();
         }

@@ -174,9 +174,7 @@ void System::check_scene_before_run() const {
   }
   if (m_substeps > 1) {
     std::string why;
-    if (m_comm.parallel())
-      why = "they run on one MPI rank only (this run has " + std::to_string(m_comm.size()) + " ranks)";
-    else if (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::Shardlow)
+    if (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::Shardlow)
       why = "only velocity Verlet and Shardlow have them";
     else if (m_le_protocol.kind != LeesEdwardsProtocol::Off)
       why = "Lees-Edwards boundary conditions are not supported";

@@ -74,8 +74,11 @@ class Integrator:
         list (e.g. a marble's LJ wall) are integrated with ``substeps`` inner
         steps of ``time_step / substeps``; all other forces (solvent pairs,
         walls, external, Langevin, the colloid pairs' friction and noise) keep
-        the outer step. One MPI rank only; not with Lees-Edwards or SRD
-        (RuntimeError at run time). See doc/speed-accuracy.md."""
+        the outer step. Runs on any number of MPI ranks (the same trajectory
+        to round-off); not with Lees-Edwards or SRD (RuntimeError at run
+        time). A step refused in a substep (a particle moving more than the
+        skin) stops the run with the outer half kick and the substeps before
+        the refused one done. See doc/speed-accuracy.md."""
         self._core.set_vv(substeps)
 
     def set_steepest_descent(self, f_max=None, gamma=None, max_displacement=None):
@@ -107,7 +110,7 @@ class Integrator:
 
         ``substeps`` (int in [1, 100], default 1): RESPA substeps for the stiff
         colloid pair forces, as in :meth:`set_vv`; the pair sweep stays at the
-        outer step. ``set_shardlow(substeps=2)`` lets the R = 3 marble scene
+        outer step (one MPI rank, as Shardlow itself). ``set_shardlow(substeps=2)`` lets the R = 3 marble scene
         run at a larger time_step (doc/speed-accuracy.md)."""
         self._core.set_shardlow(substeps)
 
