@@ -97,6 +97,24 @@ struct SubstepTally {
 };
 } // namespace
 
+namespace {
+/** A RESPA substep's vote over the ranks (2: refuse, 1: the main list needs
+ * a rebuild, 0), and on several ranks the largest displacements of @p t
+ * replaced by those of all ranks in the same reduction: the colloid list's
+ * staleness test is global (a colloid pairs with beads of other ranks), so
+ * every rank takes the same decision. */
+int substep_vote(Communicator const &comm, SubstepTally &t) {
+  int const vote = t.bad >= 0 ? 2 : (t.moved ? 1 : 0);
+  if (!comm.parallel())
+    return vote;
+  double r[3] = {static_cast<double>(vote), t.dmax2, t.dcol2};
+  comm.max_inplace(r, 3);
+  t.dmax2 = r[1];
+  t.dcol2 = r[2];
+  return static_cast<int>(r[0]);
+}
+} // namespace
+
 double System::kick_one(int i, double half_dt) { return kick_particle(m_ps, i, half_dt); }
 
 void System::kick(double half_dt) {
@@ -428,17 +446,7 @@ bool System::drift_checked_substep(double kick_dt, double h) {
     if (!t.add(i, x[i], dx, x0[i], col))
       break;
   }
-  int vote = t.bad >= 0 ? 2 : (t.moved ? 1 : 0);
-  if (m_comm.parallel()) {
-    // one reduction for the vote and the largest displacements since the
-    // build: the colloid list's staleness test is global (a colloid pairs
-    // with beads of other ranks), so every rank takes the same decision
-    double r[3] = {static_cast<double>(vote), t.dmax2, t.dcol2};
-    m_comm.max_inplace(r, 3);
-    vote = static_cast<int>(r[0]);
-    t.dmax2 = r[1];
-    t.dcol2 = r[2];
-  }
+  int const vote = substep_vote(m_comm, t);
   if (vote == 2)
     refuse_step(t.bad, t.bad_disp2, h, m_substeps);
   for (int i = 0; i < n; ++i) {
@@ -465,11 +473,14 @@ bool System::drift_checked_substep(double kick_dt, double h) {
 // full sweeps (drift_checked_substep). Refused steps: a bad displacement of
 // an outside particle in any substep refuses the step before any substep is
 // done; one of a list particle, before its substep (as drift_checked_substep).
+// Several ranks: the pairs' partners are locals, their colloids locals or
+// other ranks' colloids, whose ghosts get each substep's positions (the
+// outside particles' ghosts lag until the step's end, unused in between).
 int System::respa_member_substeps(double h) {
 #ifdef MARBLE
   int const n_sub = m_substeps;
   constexpr int kMaxSub = 100; // the substeps set_vv / set_shardlow accept
-  if (!m_colloids.any() || m_comm.parallel() || n_sub > kMaxSub)
+  if (!m_colloids.any() || n_sub > kMaxSub)
     return 0;
   auto const &members = m_colloids.pair_members();
   int const n = m_ps.n_local();
@@ -546,8 +557,8 @@ int System::respa_member_substeps(double h) {
       xi += dx;
     }
   });
-  if (m_comm.max(bad_k >= 0 ? 2 : 0) == 2)
-    refuse_step(out[bad_k].bad, out[bad_k].bad_disp2, h, n_sub);
+  if (m_comm.max(bad_k >= 0 ? 2 : 0) == 2) // (bad_k < 0: refused on another rank)
+    refuse_step(bad_k >= 0 ? out[bad_k].bad : -1, bad_k >= 0 ? out[bad_k].bad_disp2 : 0., h, n_sub);
   // the outside particles' substeps [k0, k1)
   // (all n_sub of them: the plain particles from the end positions of (1))
   auto advance_outside = [&](int k0, int k1) {
@@ -582,7 +593,7 @@ int System::respa_member_substeps(double h) {
         break;
     }
     bool const last = k + 1 == n_sub;
-    int const vote = m_comm.max(t.bad >= 0 ? 2 : (t.moved ? 1 : 0));
+    int const vote = substep_vote(m_comm, t);
     if (vote == 2) {
       advance_outside(0, k); // the substeps before the refused one stay done
       refuse_step(t.bad, t.bad_disp2, h, n_sub);
@@ -605,6 +616,8 @@ int System::respa_member_substeps(double h) {
       compute_fast_forces();
       return k + 1;
     }
+    if (m_comm.parallel()) // the other ranks' colloids at this substep (the partners are locals;
+      m_cells.update_ghosts(m_ps); // the outside particles' ghosts lag until the step's end: unused)
     compute_fast_forces();
   }
   advance_outside(0, n_sub);

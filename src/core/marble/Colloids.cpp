@@ -39,6 +39,11 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
     for (int k : {pr.colloid, pr.other})
       if (k < ps.n_local())
         m_members.push_back(k);
+  // every local colloid: on several ranks one whose partners are all on other
+  // ranks gets its fast forces from there (as a remote colloid ghost)
+  for (int k = 0; k < ps.n_local(); ++k)
+    if (is_colloid_type(ps.type[k]))
+      m_members.push_back(k);
   std::sort(m_members.begin(), m_members.end());
   m_members.erase(std::unique(m_members.begin(), m_members.end()), m_members.end());
 }

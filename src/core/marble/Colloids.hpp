@@ -60,8 +60,9 @@ public:
   std::string check_rotation(ParticleStore const &ps, InteractionTable const &ia) const;
   std::size_t n_pairs() const { return m_pairs.size(); }
   /** The local indices of every particle of a colloid pair (colloids and
-   * partners), ascending, as of the last rebuild: outside them the colloid
-   * pairs' forces are zero (RESPA's substeps need only these). */
+   * partners) and of every local colloid, ascending, as of the last rebuild:
+   * outside them the colloid pairs' forces are zero, also after the ghosts'
+   * forces came back (RESPA's substeps need only these). */
   std::vector<int> const &pair_members() const { return m_members; }
 
 private:
