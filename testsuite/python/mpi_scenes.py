@@ -22,6 +22,15 @@ def fluid(L, seed=5, gamma=5.0, kT=1.0, dt=0.01):
     return s
 
 
+def _run_error(s, steps):
+    """Run @p steps; the RuntimeError's message, or "no error"."""
+    try:
+        s.integrator.run(steps)
+    except RuntimeError as e:
+        return str(e)
+    return "no error"
+
+
 def scene_marble(L=8.0, R=2.0, steps=100):
     """DPD solvent + one rotating marble (tunable slip), moving across domains."""
     s = fluid(L)
@@ -179,11 +188,7 @@ def scene_blowup():
     s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
     s.time_step = 0.01
     s.part.by_id(7).v = [1e6, 0, 0]
-    try:
-        s.integrator.run(10)
-        msg = "no error"
-    except RuntimeError as e:
-        msg = str(e)
+    msg = _run_error(s, 10)
     # the system stays usable: fix the particle and go on
     s.part.by_id(7).v = [0, 0, 0]
     s.integrator.run(10)
@@ -206,12 +211,7 @@ def scene_dpd_vv():
 def scene_shardlow():
     s = fluid(4.0)
     s.integrator.set_shardlow()
-    try:
-        s.integrator.run(1)
-        msg = "no error"
-    except RuntimeError as e:
-        msg = str(e)
-    return s, dict(msg=np.array(msg))
+    return s, dict(msg=np.array(_run_error(s, 1)))
 
 
 def scene_respa():
@@ -242,11 +242,7 @@ def scene_respa_blowup():
     s.integrator.set_vv(substeps=3)
     s.integrator.run(2)
     s.part.by_id(7).v = [1e6, 0, 0]
-    try:
-        s.integrator.run(10)
-        msg = "no error"
-    except RuntimeError as e:
-        msg = str(e)
+    msg = _run_error(s, 10)
     # a refused RESPA step keeps what was done before the refusal (the outer
     # half kick, which gave the fast particle's neighbours its DPD friction):
     # new velocities for all, and the run goes on
@@ -260,12 +256,7 @@ def scene_respa_shardlow():
     """RESPA under Shardlow on N ranks: refused (the sweep is sequential)."""
     s = fluid(4.0)
     s.integrator.set_shardlow(substeps=2)
-    try:
-        s.integrator.run(1)
-        msg = "no error"
-    except RuntimeError as e:
-        msg = str(e)
-    return s, dict(msg=np.array(msg))
+    return s, dict(msg=np.array(_run_error(s, 1)))
 
 
 def _narrow(box, r_cut, steps=30, seed=3):

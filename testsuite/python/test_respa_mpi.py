@@ -52,7 +52,7 @@ def test_respa_blowup_stops_every_rank_cleanly():
     msg = str(res["msg"])
     assert re.search(r"integration stopped at step 3: particle \d+ moved .* in one of the 3 substeps", msg), msg
     assert "raise the integrator's substeps" in msg
-    assert int(res["step"]) == 12  # the refused step changed nothing; 10 more steps ran
+    assert int(res["step"]) == 12  # the refused step did not count; 10 more steps ran
 
 
 def test_shardlow_substeps_refused_on_two_ranks():

@@ -344,32 +344,22 @@ void System::compute_fast_forces() {
     m_cells.reduce_ghost_values(m_ps, m_f_fast);
   }
   m_f_fast.resize(static_cast<std::size_t>(n)); // (one rank: the colloid pairs hold locals only)
-  auto message = [&](int i) {
-    return "non-finite fast (colloid pair) force on particle " + std::to_string(m_ps.id[i]) + " at step " +
-           std::to_string(m_step) +
-           ": likely cause: overlapping particles or a time step too large for the interactions; "
-           "reduce time_step or raise the integrator's substeps";
-  };
-  if (m_comm.parallel()) { // collective: every rank throws (the message of the first bad rank)
-    int bad = -1;
-    for (int i = 0; i < n && bad < 0; ++i)
-      if (not_finite(m_f_fast[i]))
-        bad = i;
-    try {
-      m_comm.throw_if_any(bad >= 0 ? message(bad) : std::string());
-    } catch (...) {
-      m_forces_valid = false;
-      throw;
-    }
-    return;
+  // collective: every rank throws, with the message of the first bad rank
+  int bad = -1;
+  for_each_fast_member([&](int i) {
+    if (bad < 0 && not_finite(m_f_fast[i]))
+      bad = i;
+  });
+  try {
+    m_comm.throw_if_any(bad < 0 ? std::string()
+                                : "non-finite fast (colloid pair) force on particle " +
+                                      std::to_string(m_ps.id[bad]) + " at step " + std::to_string(m_step) +
+                                      ": likely cause: overlapping particles or a time step too large for "
+                                      "the interactions; reduce time_step or raise the integrator's substeps");
+  } catch (...) {
+    m_forces_valid = false;
+    throw;
   }
-  auto check = [&](int i) {
-    if (not_finite(m_f_fast[i])) {
-      m_forces_valid = false;
-      throw Utils::RuntimeError(message(i));
-    }
-  };
-  for_each_fast_member(check);
 }
 
 } // namespace Marble

@@ -110,8 +110,9 @@ class Integrator:
 
         ``substeps`` (int in [1, 100], default 1): RESPA substeps for the stiff
         colloid pair forces, as in :meth:`set_vv`; the pair sweep stays at the
-        outer step (one MPI rank, as Shardlow itself). ``set_shardlow(substeps=2)`` lets the R = 3 marble scene
-        run at a larger time_step (doc/speed-accuracy.md)."""
+        outer step (one MPI rank, as Shardlow itself). ``set_shardlow(substeps=2)``
+        lets the R = 3 marble scene run at a larger time_step
+        (doc/speed-accuracy.md)."""
         self._core.set_shardlow(substeps)
 
     def set_dpd_vv(self):
