@@ -487,6 +487,20 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
     }
   }
+  // the replicated types' subset of the exchange (both sides select by type,
+  // in the same order)
+  m_rep_send.assign(static_cast<std::size_t>(size), {});
+  m_rep_recv.assign(static_cast<std::size_t>(size), {});
+  if (!any_replicated)
+    return;
+  for (int q = 0; q < size; ++q) {
+    for (std::size_t k = 0; k < m_send[q].size(); ++k)
+      if (replicated(ps.type[m_send[q][k].index]))
+        m_rep_send[q].push_back(static_cast<int>(k));
+    for (int g = m_recv_begin[q]; g < m_recv_begin[q] + m_recv_count[q]; ++g)
+      if (ps.ghost_owner[g - ps.n_local()] == kRemoteColloidGhost)
+        m_rep_recv[q].push_back(g);
+  }
 }
 
 // Lees-Edwards images (one rank, no marble colloids; System refuses the rest).
@@ -1342,6 +1356,51 @@ void CellSystem::update_ghosts(ParticleStore &ps) const {
 #ifdef ROTATION
         ps.omega[g] = u.omega;
 #endif
+      });
+}
+
+void CellSystem::update_replicated_ghosts(ParticleStore &ps) const {
+  m_inner_fresh = false;
+  if (!parallel())
+    return;
+  exchange_records<GhostUpdate>(
+      [&](int q) { return m_rep_send[q].size(); }, [&](int q) { return m_rep_recv[q].size(); },
+      [&](int q, GhostUpdate *out) {
+        for (int k : m_rep_send[q]) {
+          SendEntry const &e = m_send[q][static_cast<std::size_t>(k)];
+          GhostUpdate &u = *out++;
+          u.pos = ps.pos[e.index] + e.shift;
+          u.v = ps.v[e.index];
+#ifdef ROTATION
+          u.omega = ps.omega[e.index];
+#endif
+        }
+      },
+      [&](int q, GhostUpdate const *in) {
+        for (int g : m_rep_recv[q]) {
+          GhostUpdate const &u = *in++;
+          ps.pos[g] = u.pos;
+          ps.v[g] = u.v;
+#ifdef ROTATION
+          ps.omega[g] = u.omega;
+#endif
+        }
+      });
+}
+
+void CellSystem::reduce_replicated_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const {
+  (void)ps;
+  if (!parallel())
+    return;
+  exchange_records<Vector3d>(
+      [&](int q) { return m_rep_recv[q].size(); }, [&](int q) { return m_rep_send[q].size(); },
+      [&](int q, Vector3d *out) {
+        for (int g : m_rep_recv[q])
+          *out++ = x[g];
+      },
+      [&](int q, Vector3d const *in) {
+        for (int k : m_rep_send[q])
+          x[m_send_index[q][static_cast<std::size_t>(k)]] += *in++;
       });
 }
 

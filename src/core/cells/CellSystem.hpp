@@ -135,6 +135,14 @@ public:
   /** Add the ghosts' entries of @p x to their owners' (the reverse of
    * fill_ghost_values). Collective. */
   void reduce_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
+  /** update_ghosts for the other ranks' copies of the replicated (colloid)
+   * types only: positions, velocities and omega; the other ghosts keep their
+   * values (the RESPA substeps, whose colloid pairs read locals and these
+   * copies only). Collective; nothing on one rank. */
+  void update_replicated_ghosts(ParticleStore &ps) const;
+  /** reduce_ghost_values for the other ranks' copies of the replicated types
+   * only (the entries of every other ghost must be zero). Collective. */
+  void reduce_replicated_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
   /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective.
    * With Lees-Edwards: more than (skin - |offset change since the build|) / 2. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
@@ -342,6 +350,8 @@ private:
   // the order rank r stores them); ghosts from rank r: [m_recv_begin[r], + m_recv_count[r])
   std::vector<std::vector<SendEntry>> m_send;
   std::vector<int> m_recv_begin, m_recv_count;
+  // the replicated types among them: positions k in m_send[r], and ghost indices from rank r
+  std::vector<std::vector<int>> m_rep_send, m_rep_recv;
   // the other ranks whose domain (or a periodic image of it) lies within the
   // neighbour radius of this rank's domain along every axis, sorted; symmetric.
   // Migration and the ghost set-up at a rebuild talk to these only.

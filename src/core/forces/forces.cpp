@@ -339,9 +339,9 @@ void System::compute_fast_forces() {
     m_colloids.add_conservative_forces(m_ps, m_ia, m_f_fast);
 #endif
   if (m_comm.parallel()) {
-    // several ranks: pairs with ghosts (beads of other ranks, other ranks'
-    // colloids) leave forces on them, returned to their owners as in compute_forces
-    m_cells.reduce_ghost_values(m_ps, m_f_fast);
+    // several ranks: pairs with other ranks' colloids (the partners are
+    // locals: Colloids::find_pairs) leave forces on those copies, returned to their owners
+    m_cells.reduce_replicated_ghost_values(m_ps, m_f_fast);
   }
   m_f_fast.resize(static_cast<std::size_t>(n)); // (one rank: the colloid pairs hold locals only)
   // collective: every rank throws, with the message of the first bad rank

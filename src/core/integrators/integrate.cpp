@@ -617,7 +617,7 @@ int System::respa_member_substeps(double h) {
       return k + 1;
     }
     if (m_comm.parallel()) // the other ranks' colloids at this substep (the partners are locals;
-      m_cells.update_ghosts(m_ps); // the outside particles' ghosts lag until the step's end: unused)
+      m_cells.update_replicated_ghosts(m_ps); // every other ghost lags until the step's end: unused)
     compute_fast_forces();
   }
   advance_outside(0, n_sub);
@@ -668,7 +668,9 @@ int System::run_md_respa(int n_steps) {
             m_displacement_hint = 1;
             ensure_lists(); // rebuild (the pairs of the colloid list too)
           } else if (m_comm.parallel()) {
-            m_cells.update_ghosts(m_ps); // the colloid pairs' ghosts at the substep's positions
+            // the colloid pairs' ghosts (other ranks' colloids: the partners are
+            // locals) at the substep's positions; the others lag until the step's end
+            m_cells.update_replicated_ghosts(m_ps);
           }
           compute_fast_forces();
         }
