@@ -348,6 +348,11 @@ def extrapolate(rows, L_of, R_t, R_r):
                   f"+/- {e0:.3f}, b = {b[1]:.1f} +/- {math.sqrt(C[1, 1]):.1f} (chi2 {chi2:.2f}/{len(g) - 2}); "
                   f"R_s = {Rs:.4f} ({Rs_lo:.4f}-{Rs_hi:.4f}); S0 - R_t's: {(b[0] - pred['R_t']) / e0:+.1f} sigma, "
                   f"- R_r's: {(b[0] - pred['R_r']) / e0:+.1f} sigma")
+            # the core radius a = R / STICK_RADIUS_RATIO by construction (the colloid's calibration)
+            to_a = sus.STICK_RADIUS_RATIO / R
+            print(f"  R_s/a = {Rs * to_a:.4f} +/- {0.5 * (Rs_hi - Rs_lo) * to_a:.4f} "
+                  f"(marble.suspensions.STICK_STRESSLET_RADIUS_RATIO = {sus.STICK_STRESSLET_RADIUS_RATIO} "
+                  f"+/- {sus.STICK_STRESSLET_RADIUS_RATIO_ERR})")
     return fits
 
 

@@ -94,7 +94,7 @@ def colloid_box():
         kw["stick_shell"] = args.stick_shell
     if args.radius_calibration is not None:
         rc = args.radius_calibration
-        kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
+        kw["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
     info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
                                 positions=[[L / 2] * 3], **kw)
     if args.trans_gamma > 0:

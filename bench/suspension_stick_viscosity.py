@@ -87,7 +87,7 @@ if args.phi > 0:
             kw.update(lubrication_form="plain", h_cut=1.0)
         if args.radius_calibration is not None:
             rc = args.radius_calibration
-            kw["radius_calibration"] = rc if rc in ("none", "stick") else float(rc)
+            kw["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
 # the sample's scene and measurement (samples/suspension_viscosity.py)
 s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
 if sample.add_extra_solvent(s, info, box, args.extra_solvent, args.seed) is not None:

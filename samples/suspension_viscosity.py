@@ -37,9 +37,10 @@ on one idle core.
 surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R = 1
 (core radius R/1.013, section 7d; ``--radius-calibration none`` builds the core R = 1
 as before; ``--radius-calibration rotation``: R = 1 is the rotational radius, core
-R/1.0623, section 7m); phi is then the volume fraction of spheres of that radius and
-the cores' is printed too, with the volume fraction of the rotational radius and
-Krieger-Dougherty there. The solvent has exactly rho x free volume beads for "slip" and the "bulk" count for
+R/1.0623, section 7m; ``--radius-calibration stresslet``: R = 1 is the strain radius of
+Einstein's viscosity, core R/1.037, section 7p); phi is then the volume fraction of spheres of that radius and
+the cores' is printed too, with the volume fractions of the rotational and the strain
+radius and Krieger-Dougherty there. The solvent has exactly rho x free volume beads for "slip" and the "bulk" count for
 "stick" (setup_suspension's stick default; ``--solvent-count poisson``: a
 Poisson number, as the runs of sections 7-7c; section 7d: the density scatter of a
 Poisson count shifts eta by several %, and eta_0 must be measured at the same density). The default "slip" is seed 004's colloid, whose central colloid-solvent
@@ -169,7 +170,8 @@ def main():
     parser.add_argument("--radius-calibration", default=None,
                         help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
                              "R/1.013, doc/suspensions.md section 7d), 'rotation' (the rotational radius, core "
-                             "R/1.0623, section 7m), 'none' (the core) or a ratio")
+                             "R/1.0623, section 7m), 'stresslet' (the strain radius, core R/1.037, section "
+                             "7p), 'none' (the core) or a ratio")
     parser.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default=None,
                         help="solvent beads: exactly rho x free volume (default for slip; stick: "
                              "setup_suspension's default 'bulk'), a Poisson number as "
@@ -209,7 +211,7 @@ def main():
             stick["shared"] = args.shared
         if args.radius_calibration is not None:
             rc = args.radius_calibration
-            stick["radius_calibration"] = rc if rc in ("none", "stick", "rotation") else float(rc)
+            stick["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
 
     def run(phi):
         s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,
@@ -219,15 +221,15 @@ def main():
               f"{len(s.part.all())} "
               f"particles): eta = {res.eta:.4f} +/- {res.eta_err:.4f}, kT = {res.kT:.4f}, "
               f"v_max = {res.v_max:.3f}", flush=True)
-        return info["phi"], info["phi_core"], res, info.get("phi_rotational")
+        return info["phi"], info["phi_core"], res, (info.get("phi_rotational"), info.get("phi_stresslet"))
 
     phi0, _, res0, _ = run(0.0)
     rows = []
     for phi in args.phi:
-        ph, ph_core, res, ph_rot = run(phi)
+        ph, ph_core, res, radii = run(phi)
         er = res.eta / res0.eta
         er_err = er * math.hypot(res.eta_err / res.eta, res0.eta_err / res0.eta)
-        rows.append((ph, er, er_err, ph_core, ph_rot))
+        rows.append((ph, er, er_err, ph_core, radii))
     print(f"box {box}, dt = {args.dt}, g = {args.g}, {args.time} time units per scene")
     print(f"eta_0 = {res0.eta:.4f} +/- {res0.eta_err:.4f}")
     print(" phi (given radius)  phi (cores)  eta_r            Batchelor  Krieger-Dougherty")
@@ -235,10 +237,14 @@ def main():
         print(f" {ph:.3f}               {ph_core:.3f}        {er:.3f} +/- {e:.3f}   "
               f"{theory.batchelor_viscosity(ph):.3f}      {theory.krieger_dougherty_viscosity(ph):.3f}")
     if args.boundary == "stick":
-        # the stick colloid is ~5 % larger in rotation than in drag (doc/suspensions.md 7m)
-        print(" phi of the rotational radius (7m)   Krieger-Dougherty there")
-        for ph, er, e, ph_core, ph_rot in rows:
-            print(f" {ph_rot:.3f}                              {theory.krieger_dougherty_viscosity(ph_rot):.3f}")
+        # the stick colloid is ~5 % larger in rotation than in drag (doc/suspensions.md 7m);
+        # its stresslet's (strain) radius lies between the two (7p)
+        print(" phi of the rotational radius (7m)   Krieger-Dougherty there   "
+              "phi of the strain radius (7p)   Krieger-Dougherty there")
+        for ph, er, e, ph_core, (ph_rot, ph_s) in rows:
+            print(f" {ph_rot:.3f}                              {theory.krieger_dougherty_viscosity(ph_rot):.3f}"
+                  f"                     {ph_s:.3f}                           "
+                  f"{theory.krieger_dougherty_viscosity(ph_s):.3f}")
 
     import matplotlib
 

@@ -235,6 +235,7 @@ class Setup(unittest.TestCase):
         # bad input: a clear ValueError, nothing changed
         for extra, key in ((dict(radius_calibration="stick"), "radius_calibration"),
                            (dict(radius_calibration="rotation"), "radius_calibration"),
+                           (dict(radius_calibration="stresslet"), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration="hydro"), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration=-1.0), "radius_calibration"),
                            (dict(boundary="stick", radius_calibration=0.0), "radius_calibration"),
@@ -281,6 +282,42 @@ class Setup(unittest.TestCase):
         self.assertAlmostEqual(i2["phi_rotational"], i2["phi"] * (cr / ct) ** 3, places=14)
         s3 = self.system()
         self.assertIsNone(sus.setup_suspension(s3, **dict(kw, boundary="slip"))["rotational_radius"])
+
+    def test_stick_stresslet_calibration(self):
+        """radius_calibration="stresslet" builds the stick colloid on the core
+        a = radius / STICK_STRESSLET_RADIUS_RATIO (section 7p), so that its strain radius
+        is ``radius``; the strain radius lies between the drag and the rotational
+        radius (section 7p's measurement, which the constants must carry), and every
+        stick calibration reports all three radii and their volume fractions."""
+        if not marble.has_features("TRANS_DPD", "ROTATION"):
+            self.skipTest("needs TRANS_DPD and ROTATION")
+        ct, cs, cr = sus.STICK_RADIUS_RATIO, sus.STICK_STRESSLET_RADIUS_RATIO, sus.STICK_ROTATIONAL_RADIUS_RATIO
+        self.assertLess(ct, cs)
+        self.assertLess(cs, cr)
+        R = 1.2
+        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4, solvent_count="poisson",
+                  boundary="stick")
+        s1, s2 = self.system(), self.system()
+        i1 = sus.setup_suspension(s1, radius_calibration="stresslet", **kw)
+        i2 = sus.setup_suspension(s2, **kw)  # "stick"
+        a = R / cs
+        self.assertEqual((i1["radius_calibration"], i1["radius_ratio"]), ("stresslet", cs))
+        self.assertAlmostEqual(i1["core_radius"], a, places=14)
+        self.assertAlmostEqual(i1["stresslet_radius"], R, places=14)
+        self.assertAlmostEqual(i1["phi_stresslet"], i1["phi"], places=14)
+        for info, ratio in ((i1, cs), (i2, ct)):
+            core = info["core_radius"]
+            for key, c in (("hydrodynamic", ct), ("rotational", cr), ("stresslet", cs)):
+                self.assertAlmostEqual(info[key + "_radius"], core * c, places=14)
+                self.assertAlmostEqual(info["phi_" + key], info["phi"] * (c / ratio) ** 3, places=14)
+        col = s1.part.by_ids(i1["colloid_ids"])
+        np.testing.assert_allclose(col.mass, 3 * 4 / 3 * math.pi * a ** 3, rtol=1e-14)
+        self.assertAlmostEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], a, places=14)
+        self.assertEqual(i1["n_colloids"], i2["n_colloids"])
+        s3 = self.system()
+        i3 = sus.setup_suspension(s3, **dict(kw, boundary="slip"))
+        self.assertIsNone(i3["stresslet_radius"])
+        self.assertIsNone(i3["phi_stresslet"])
 
     def test_boundary_defaults(self):
         """The defaults that depend on ``boundary`` (doc/suspensions.md 7i): slip is seed

@@ -42,6 +42,20 @@ STICK_RADIUS_RATIO_ERR = 0.010
 STICK_ROTATIONAL_RADIUS_RATIO = 1.0623
 STICK_ROTATIONAL_RADIUS_RATIO_ERR = 0.0035
 
+#: Strain (stresslet) radius / core radius of the same stick colloid: R_s from the
+#: stresslet S = (20/3) pi eta R_s^3 rate/2 of one colloid in uniform shear (Lees-Edwards,
+#: the whole box's shear stress against the solvent alone, the periodic lattice's
+#: factor included), extrapolated to rate 0 with S0 + b rate^2 over rates 0.05, 0.1
+#: and 0.2 (doc/suspensions.md section 7p; error STICK_STRESSLET_RADIUS_RATIO_ERR, the
+#: fit's; the rate^1.5 fit gives 0.4 % less). The radius of Einstein's viscosity
+#: 1 + 2.5 phi; it lies between the drag and the rotational radius.
+STICK_STRESSLET_RADIUS_RATIO = 1.037
+STICK_STRESSLET_RADIUS_RATIO_ERR = 0.010
+
+# radius / core radius of each named stick calibration (setup_suspension's radius_calibration)
+_STICK_CALIBRATIONS = {"stick": STICK_RADIUS_RATIO, "rotation": STICK_ROTATIONAL_RADIUS_RATIO,
+                       "stresslet": STICK_STRESSLET_RADIUS_RATIO}
+
 #: Solvent beads adsorbed per unit core area (beads within 1.0 of a core surface in
 #: excess of the bulk density), measured for seed 004's conservative forces
 #: (rho = 3, a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat; core
@@ -218,12 +232,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       core radius is a = radius / STICK_RADIUS_RATIO (1.013 +/- 0.010, measured
       by the drag of one stick colloid, doc/suspensions.md section 7d);
       ``"rotation"`` (stick only): ``radius`` is the rotational radius and
-      a = radius / STICK_ROTATIONAL_RADIUS_RATIO (1.0623 +/- 0.0035, section 7m):
-      the choice for viscosity work if the stresslet follows the rotation, which
-      7m's Krieger-Dougherty comparison supports at phi = 0.2-0.3; the stresslet of
-      one colloid measured directly (section 7p) puts its strain radius between
-      the two, R_s = 1.024 (1.010-1.038) x the drag radius; or a
-      number c > 0 (your own measured ratio): a = radius / c. Everything of the
+      a = radius / STICK_ROTATIONAL_RADIUS_RATIO (1.0623 +/- 0.0035, section 7m);
+      ``"stresslet"`` (stick only): ``radius`` is the strain radius, that of the
+      stresslet of one colloid in shear (the radius in Einstein's 1 + 2.5 phi),
+      and a = radius / STICK_STRESSLET_RADIUS_RATIO (1.037 +/- 0.010, section 7p):
+      the choice for viscosity work (it lies between the drag and the rotational
+      radius); or a number c > 0 (your own measured ratio): a = radius / c. Everything of the
       colloid is then built on the core a: the offsets of the colloid-solvent
       hat, DPD and surface friction, the equal-volume surface cutoff r'_c(a)
       (also the friction shell), the solvent removed from r < a, the mass
@@ -254,8 +268,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     ``radius`` the given radius, ``core_radius`` a, ``radius_ratio`` radius/a,
     ``phi`` the volume fraction of spheres of the given radius and ``phi_core``
     that of the cores; ``hydrodynamic_radius`` and ``phi_hydrodynamic`` for
-    "stick": a x STICK_RADIUS_RATIO for "stick", "none" and "rotation", a x c for your c;
-    ``rotational_radius`` and ``phi_rotational`` for "stick": a x STICK_ROTATIONAL_RADIUS_RATIO;
+    "stick": a x STICK_RADIUS_RATIO for "stick", "none", "rotation" and "stresslet", a x c
+    for your c; ``rotational_radius`` and ``phi_rotational`` for "stick": a x
+    STICK_ROTATIONAL_RADIUS_RATIO; ``stresslet_radius`` and ``phi_stresslet`` for "stick":
+    a x STICK_STRESSLET_RADIUS_RATIO;
     the effective ``solvent_count``, ``h_cut``, ``lubrication``, ``lubrication_form``
     and ``colloid_dpd`` after the boundary's defaults).
     Colloid-colloid pairs (range 2R + h_cut) go through the main Verlet list
@@ -301,14 +317,14 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         radius_calibration = "stick" if boundary == "stick" else "none"
     if radius_calibration == "none":
         ratio = 1.0
-    elif radius_calibration in ("stick", "rotation"):
+    elif isinstance(radius_calibration, str) and radius_calibration in _STICK_CALIBRATIONS:
         if boundary != "stick":
             raise ValueError(f"parameter 'radius_calibration': {radius_calibration!r} applies to "
                              "boundary='stick' only (use 'none' or your own ratio)")
-        ratio = STICK_RADIUS_RATIO if radius_calibration == "stick" else STICK_ROTATIONAL_RADIUS_RATIO
+        ratio = _STICK_CALIBRATIONS[radius_calibration]
     elif isinstance(radius_calibration, str):
-        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick', 'rotation' or a ratio > 0, "
-                         f"got {radius_calibration!r}")
+        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick', 'rotation', 'stresslet' "
+                         f"or a ratio > 0, got {radius_calibration!r}")
     else:
         ratio = _positive("radius_calibration", radius_calibration)
     # the core radius: every colloid interaction, the solvent removal and the mass use it
@@ -440,10 +456,11 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if morse:
         ia[c, c].morse.set_params(**dict(morse, offset=2 * R))
     system.thermostat.set_dpd(kT=kT, seed=int(seed))
-    hydro = rot = None
+    hydro = rot = strain = None
     if boundary == "stick":
         hydro = R * (STICK_RADIUS_RATIO if isinstance(radius_calibration, str) else ratio)
         rot = R * STICK_ROTATIONAL_RADIUS_RATIO
+        strain = R * STICK_STRESSLET_RADIUS_RATIO
     return dict(n_colloids=n_col, n_solvent=len(spos), phi=n_col * v_user / V, radius=R_user,
                 core_radius=R, radius_ratio=ratio, radius_calibration=radius_calibration,
                 phi_core=n_col * v_col / V, hydrodynamic_radius=hydro, solvent_count=solvent_count,
@@ -451,6 +468,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 phi_hydrodynamic=None if hydro is None else n_col * 4.0 / 3.0 * math.pi * hydro ** 3 / V,
                 rotational_radius=rot,
                 phi_rotational=None if rot is None else n_col * 4.0 / 3.0 * math.pi * rot ** 3 / V,
+                stresslet_radius=strain,
+                phi_stresslet=None if strain is None else n_col * 4.0 / 3.0 * math.pi * strain ** 3 / V,
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
                 cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
