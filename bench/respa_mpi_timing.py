@@ -7,6 +7,12 @@ doc/speed-accuracy.md, "Several MPI ranks"). One JSON line from rank 0:
     done; done >> respa_mpi.jsonl
 
 Run it on an otherwise idle machine (stop other jobs): the wall time is what is compared.
+Two builds side by side (bench/results/respa_mpi_timing_s20.jsonl: OLD a build of the
+previous commit in a temporary directory; each line prefixed with "build" and "round"):
+
+    for round in $(seq 17); do for b in OLD build; do for n in 1 3; do for r in 1 2; do
+      mpiexec -n $r $b/pymarble bench/respa_mpi_timing.py --substeps $n --steps 600
+    done; done; done; done
 """
 import argparse
 import json

@@ -90,7 +90,7 @@ def parse(argv=None):
     p.add_argument("--dt", type=float, default=DT)
     p.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default="exact")
     p.add_argument("--radius-calibration", default="stick",
-                   help="setup_suspension's radius_calibration ('stick', 'none' or a number)")
+                   help="setup_suspension's radius_calibration ('stick', 'rotation', 'stresslet', 'none' or a number)")
     p.add_argument("--trans-gamma", type=float, default=None,
                    help="drive: the surface_friction's gamma (default None: setup_suspension's 45)")
     p.add_argument("--stick-shell", type=float, default=None,
@@ -125,7 +125,7 @@ def colloid_box(args):
     s.time_step = args.dt
     s.cell_system.skin = 0.4
     rc = args.radius_calibration
-    rc = rc if rc in ("none", "stick") else float(rc)
+    rc = sus.radius_calibration_arg(rc)
     phi = 4.0 * math.pi * R ** 3 / (3.0 * args.L ** 3)
     kw = {k: v for k, v in (("trans_gamma", args.trans_gamma), ("stick_shell", args.stick_shell)) if v is not None}
     info = sus.setup_suspension(s, phi=phi, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,

@@ -56,7 +56,7 @@ parser.add_argument("--stick-shell", type=float, default=None,
 parser.add_argument("--radius-calibration", default=None,
                     help="setup_suspension's radius_calibration: 'none' (the core radius is R = 1: how the "
                          "ratio STICK_RADIUS_RATIO was measured), 'stick' (stick's default: R = 1 is the "
-                         "hydrodynamic radius, the core R/1.013) or a number")
+                         "hydrodynamic radius, the core R/1.013), 'rotation', 'stresslet' or a number")
 parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
                     help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--time", type=float, default=1000.0, help="production time")
@@ -94,7 +94,7 @@ def colloid_box():
         kw["stick_shell"] = args.stick_shell
     if args.radius_calibration is not None:
         rc = args.radius_calibration
-        kw["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
+        kw["radius_calibration"] = sus.radius_calibration_arg(rc)
     info = sus.setup_suspension(s, phi=PHI, radius=R, kT=KT, gamma=GAMMA, eta=0.3, seed=args.seed,
                                 positions=[[L / 2] * 3], **kw)
     if args.trans_gamma > 0:

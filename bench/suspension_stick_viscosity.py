@@ -29,6 +29,7 @@ import numpy as np
 
 import marble
 from marble import theory
+import marble.suspensions as sus
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "samples"))
 import suspension_viscosity as sample  # noqa: E402
@@ -42,7 +43,8 @@ parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
 parser.add_argument("--stick-shell", type=float, default=None, help="stick: the friction shell's thickness")
 parser.add_argument("--radius-calibration", default=None,
                     help="stick: setup_suspension's radius_calibration ('none': the core radius is R = 1, "
-                         "as in section 7c; default 'stick': R = 1 is the hydrodynamic radius)")
+                         "as in section 7c; default 'stick': R = 1 is the hydrodynamic radius; 'rotation', "
+                         "'stresslet': the rotational or strain radius; or a number)")
 parser.add_argument("--solvent-count", choices=["poisson", "exact"], default="poisson",
                     help="setup_suspension's solvent_count (exact: round(rho x free volume) beads)")
 parser.add_argument("--box", type=float, nargs=3, default=[7, 7, 10])
@@ -87,7 +89,7 @@ if args.phi > 0:
             kw.update(lubrication_form="plain", h_cut=1.0)
         if args.radius_calibration is not None:
             rc = args.radius_calibration
-            kw["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
+            kw["radius_calibration"] = sus.radius_calibration_arg(rc)
 # the sample's scene and measurement (samples/suspension_viscosity.py)
 s, info = sample.scene(args.phi, box, dt=args.dt, seed=args.seed, equil=args.equil, **kw)
 if sample.add_extra_solvent(s, info, box, args.extra_solvent, args.seed) is not None:

@@ -271,7 +271,7 @@ def weighted_mean(x, e):
 
 
 def eta_table(files, eta0=0.3290, eta0_err=0.0030):
-    """The calibrated stick scenes (box 7 x 7 x 10, shared "full", trans_gamma 45, exact
+    """The drag-calibrated stick scenes (box 7 x 7 x 10, shared "full", trans_gamma 45, exact
     or Poisson count as recorded) of the JSON-lines files, grouped by phi and colloid DPD:
     eta_r means (error: weighted, scaled by sqrt(chi^2/dof) when > 1, plus eta_0's) and
     the paired differences (same phi and seed) with minus without colloid DPD."""
@@ -281,7 +281,9 @@ def eta_table(files, eta0=0.3290, eta0_err=0.0030):
             d = json.loads(line)
             if d.get("boundary") != "stick" or d.get("shared") != "full" or d.get("trans_gamma") != 45.0:
                 continue
-            if d.get("radius_calibration") in (None, "none") or d.get("rest"):
+            # the drag calibration: "stick", or its earlier value 1.02 given as a number
+            # ("rotation" and "stresslet" build other cores)
+            if d.get("radius_calibration") in (None, "none", "rotation", "stresslet") or d.get("rest"):
                 continue
             if list(d.get("box", [7.0, 7.0, 10.0])) != [7.0, 7.0, 10.0] or not d.get("lubrication", True):
                 continue

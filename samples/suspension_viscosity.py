@@ -211,7 +211,7 @@ def main():
             stick["shared"] = args.shared
         if args.radius_calibration is not None:
             rc = args.radius_calibration
-            stick["radius_calibration"] = rc if rc in ("none", "stick", "rotation", "stresslet") else float(rc)
+            stick["radius_calibration"] = sus.radius_calibration_arg(rc)
 
     def run(phi):
         s, info = scene(phi, box, dt=args.dt, seed=args.seed, equil=args.equil, contact=contact,

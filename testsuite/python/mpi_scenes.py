@@ -233,6 +233,22 @@ def scene_respa():
                    migrated=np.array(len(owned0 ^ owned1)))
 
 
+def scene_respa_plain():
+    """RESPA substeps with no colloid and no pair interaction (no cell range, so no
+    ghosts; the substeps' exchange of colloid copies has nothing to send), with
+    particles crossing the domains."""
+    rng = np.random.default_rng(9)
+    s = marble.System(box_l=[6.0, 6.0, 6.0])
+    s.time_step = 0.02
+    s.part.add(pos=rng.uniform(0, 6, (300, 3)), v=3.0 * rng.normal(size=(300, 3)))
+    s.integrator.set_vv(substeps=3)
+    owned0 = set(s.cell_system.local_ids())
+    s.integrator.run(40)
+    owned1 = set(s.cell_system.local_ids())
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, migrated=np.array(len(owned0 ^ owned1)))
+
+
 def scene_respa_blowup():
     """A particle far too fast under RESPA (substeps = 3, a marble present):
     every rank stops in the first substep with the same RuntimeError (no hang),

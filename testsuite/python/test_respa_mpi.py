@@ -1,7 +1,8 @@
 # labels: python mpi
 """RESPA substeps (integrator.set_vv(substeps=n), doc/speed-accuracy.md) on several MPI
-ranks: between substeps the ghosts get the new positions and the fast (colloid pair)
-forces on ghosts go back to their owners; the colloid list's staleness test and the
+ranks: between substeps the other ranks' colloid copies get the new positions and the
+fast (colloid pair) forces on them go back to their owners (every other ghost waits for
+the step's end); the colloid list's staleness test and the
 step's refusal are voted on over the ranks.
 
 The scene (testsuite/python/mpi_scenes.py `respa`): a DPD fluid (L = 8) with a rotating
@@ -39,6 +40,17 @@ def test_respa_trajectory_1_vs_n_ranks(respa_runs, ranks):
         np.testing.assert_allclose(other[key], one[key], rtol=0, atol=1e-9, err_msg=key)
     # the same list rebuilds (mid-step ones included), and particles did cross
     assert int(other["rebuilds"]) == int(one["rebuilds"])
+    assert int(other["migrated"]) > 50
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_respa_without_colloids_or_ghosts(ranks):
+    """No colloid and no pair range (no ghosts at all): the substeps' exchange of
+    colloid copies must have its (empty) lists all the same (this scene crashed on
+    2 ranks before they were reset with every ghost set-up)."""
+    one, other = run("respa_plain", 1), run("respa_plain", ranks)
+    assert int(other["ranks"]) == ranks
+    assert_same_trajectory(one, other)
     assert int(other["migrated"]) > 50
 
 

@@ -319,6 +319,16 @@ class Setup(unittest.TestCase):
         self.assertIsNone(i3["stresslet_radius"])
         self.assertIsNone(i3["phi_stresslet"])
 
+    def test_radius_calibration_arg(self):
+        """The command-line form of radius_calibration (samples, benches): the names
+        as they are, numbers as numbers, anything else a ValueError naming it."""
+        for name in ("none", "stick", "rotation", "stresslet"):
+            self.assertEqual(sus.radius_calibration_arg(name), name)
+        self.assertEqual(sus.radius_calibration_arg("1.02"), 1.02)
+        for bad in ("hydro", "", None):
+            with self.assertRaisesRegex(ValueError, "radius_calibration"):
+                sus.radius_calibration_arg(bad)
+
     def test_boundary_defaults(self):
         """The defaults that depend on ``boundary`` (doc/suspensions.md 7i): slip is seed
         004's (plain lubrication to h_cut = r_c, colloid-colloid DPD, Poisson count);

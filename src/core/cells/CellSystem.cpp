@@ -325,6 +325,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   m_send.assign(static_cast<std::size_t>(size), {});
   m_recv_begin.assign(static_cast<std::size_t>(size), ps.n_local());
   m_recv_count.assign(static_cast<std::size_t>(size), 0);
+  m_rep_send.assign(static_cast<std::size_t>(size), {}); // (every return below leaves them valid)
+  m_rep_recv.assign(static_cast<std::size_t>(size), {});
   m_le_images = false;
   m_le_k.clear();
   if (m_range <= 0.)
@@ -489,8 +491,6 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   }
   // the replicated types' subset of the exchange (both sides select by type,
   // in the same order)
-  m_rep_send.assign(static_cast<std::size_t>(size), {});
-  m_rep_recv.assign(static_cast<std::size_t>(size), {});
   if (!any_replicated)
     return;
   for (int q = 0; q < size; ++q) {

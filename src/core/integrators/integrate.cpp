@@ -400,8 +400,9 @@ int System::run_md(int n_steps) {
 // with the inner half kicks of consecutive substeps merged. Between steps
 // particle.f holds F_s + F_f (as with substeps = 1); the step takes
 // F_s = f - F_f again. Several MPI ranks: velocity Verlet only (Shardlow's
-// sweep is sequential); between substeps the ghosts get the new positions
-// and the fast forces on ghosts go back to their owners.
+// sweep is sequential); between substeps the other ranks' colloid copies get
+// the new positions and the fast forces on them go back to their owners (a
+// colloid pair's partner is a local; every ghost is updated at the step's end).
 
 void System::kick_fast(double kick_dt) {
   auto *const v = m_ps.v.data();

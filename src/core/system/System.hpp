@@ -254,7 +254,8 @@ public:
   // --- force evaluation (used by the integrators and tests) ---
   void compute_forces(bool with_thermostat);
   /** RESPA: the fast forces (the conservative pair kernels of the colloid
-   * pair list) at the current positions into m_f_fast (locals; one rank).
+   * pair list) at the current positions into m_f_fast (locals; on several
+   * ranks the forces on the other ranks' colloid copies go back to their owners).
    * Does not touch the lists: they must be valid (run_md_respa). */
   void compute_fast_forces();
   /** The last compute_fast_forces' result (locals, in their order then). */

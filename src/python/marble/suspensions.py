@@ -75,6 +75,19 @@ ADSORBED_PER_AREA = 4.0 / (4.0 * math.pi * 0.987 ** 2)
 STICK_LUBRICATION_H_CUT = 0.15
 
 
+def radius_calibration_arg(text):
+    """A command line's ``--radius-calibration`` for setup_suspension: a named
+    calibration ("none", "stick", "rotation", "stresslet") as it is, anything else
+    as a number (ValueError naming radius_calibration if it is neither)."""
+    if text in ("none", *_STICK_CALIBRATIONS):
+        return text
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise ValueError("parameter 'radius_calibration' must be 'none', "
+                         f"{', '.join(repr(k) for k in _STICK_CALIBRATIONS)} or a ratio > 0, got {text!r}") from None
+
+
 def equal_volume_cutoff(R, r_cut=1.0):
     """Centre-centre colloid-solvent cutoff (r_c^3 + R^3)^(1/3): the shell
     R < r < cutoff has the volume of a solvent bead's sphere of radius r_c (seed 004)."""
@@ -250,9 +263,10 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       trans_gamma, stick_shell or solvent needs its own: bench/suspension_hasimoto.py).
       "none" with "stick" reproduces the uncalibrated colloid bit for bit. The
       drag correction is small (one colloid's drag radius is its core radius
-      within ~1 %), but its rotational radius is 5 % larger (section 7m), and
-      spheres of that radius account for most of the suspension's viscosity
-      excess over Krieger-Dougherty at phi = 0.2-0.3. Compare viscosities with an
+      within ~1 %), but its rotational radius is 5 % larger (section 7m) and its
+      strain radius ~2 % larger (section 7p); spheres of the strain radius account
+      for about 40 % of the suspension's viscosity excess over Krieger-Dougherty at
+      phi = 0.3 (those of the rotational radius would for 87 %). Compare viscosities with an
       eta_0 measured at the same solvent density (``solvent_count="exact"``).
     - The DPD thermostat at ``kT`` with ``seed``.
 
