@@ -248,76 +248,45 @@ class Setup(unittest.TestCase):
                 self.assertEqual(len(s.part.all()), 0)
                 self.assertFalse(s.thermostat.dpd.active)
 
-    def test_stick_rotation_calibration(self):
-        """radius_calibration="rotation" builds the stick colloid on the core
-        a = radius / STICK_ROTATIONAL_RADIUS_RATIO (section 7m), so that its rotational
-        radius is ``radius``; the info names both radii (the drag radius a x
-        STICK_RADIUS_RATIO) and their volume fractions, and the default "stick"
-        reports the rotational radius and phi of its core as well."""
-        if not marble.has_features("TRANS_DPD", "ROTATION"):
-            self.skipTest("needs TRANS_DPD and ROTATION")
-        cr, ct = sus.STICK_ROTATIONAL_RADIUS_RATIO, sus.STICK_RADIUS_RATIO
-        self.assertGreater(cr, ct)  # 7m: larger in rotation than in drag, by 7 sigma
-        self.assertGreater(cr - ct, 3 * math.hypot(sus.STICK_ROTATIONAL_RADIUS_RATIO_ERR,
-                                                   sus.STICK_RADIUS_RATIO_ERR))
-        R = 1.2
-        kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4, solvent_count="poisson",
-                  boundary="stick")
-        s1, s2 = self.system(), self.system()
-        i1 = sus.setup_suspension(s1, radius_calibration="rotation", **kw)
-        i2 = sus.setup_suspension(s2, **kw)  # "stick"
-        a = R / cr
-        self.assertEqual((i1["radius_calibration"], i1["radius_ratio"]), ("rotation", cr))
-        self.assertAlmostEqual(i1["core_radius"], a, places=14)
-        self.assertAlmostEqual(i1["rotational_radius"], R, places=14)
-        self.assertAlmostEqual(i1["phi_rotational"], i1["phi"], places=14)
-        self.assertAlmostEqual(i1["hydrodynamic_radius"], a * ct, places=14)
-        self.assertAlmostEqual(i1["phi_hydrodynamic"], i1["phi"] * (ct / cr) ** 3, places=14)
-        self.assertAlmostEqual(i1["phi_core"], i1["phi"] / cr ** 3, places=14)
-        col = s1.part.by_ids(i1["colloid_ids"])
-        np.testing.assert_allclose(col.mass, 3 * 4 / 3 * math.pi * a ** 3, rtol=1e-14)
-        self.assertAlmostEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], a, places=14)
-        self.assertEqual(i1["n_colloids"], i2["n_colloids"])
-        self.assertAlmostEqual(i2["rotational_radius"], R / ct * cr, places=14)
-        self.assertAlmostEqual(i2["phi_rotational"], i2["phi"] * (cr / ct) ** 3, places=14)
-        s3 = self.system()
-        self.assertIsNone(sus.setup_suspension(s3, **dict(kw, boundary="slip"))["rotational_radius"])
-
-    def test_stick_stresslet_calibration(self):
-        """radius_calibration="stresslet" builds the stick colloid on the core
-        a = radius / STICK_STRESSLET_RADIUS_RATIO (section 7p), so that its strain radius
-        is ``radius``; the strain radius lies between the drag and the rotational
-        radius (section 7p's measurement, which the constants must carry), and every
-        stick calibration reports all three radii and their volume fractions."""
+    def test_stick_named_calibrations(self):
+        """radius_calibration="rotation" or "stresslet" builds the stick colloid on the
+        core a = radius / STICK_ROTATIONAL_RADIUS_RATIO (section 7m) or radius /
+        STICK_STRESSLET_RADIUS_RATIO (section 7p), so that its rotational or strain radius
+        is ``radius``. The constants carry the measured order drag < strain < rotation
+        (7m: rotation above drag by 7 sigma). Every stick calibration, the default
+        "stick" included, reports the three radii and their volume fractions; "slip"
+        reports none."""
         if not marble.has_features("TRANS_DPD", "ROTATION"):
             self.skipTest("needs TRANS_DPD and ROTATION")
         ct, cs, cr = sus.STICK_RADIUS_RATIO, sus.STICK_STRESSLET_RADIUS_RATIO, sus.STICK_ROTATIONAL_RADIUS_RATIO
+        self.assertGreater(cr - ct, 3 * math.hypot(sus.STICK_ROTATIONAL_RADIUS_RATIO_ERR,
+                                                   sus.STICK_RADIUS_RATIO_ERR))
         self.assertLess(ct, cs)
         self.assertLess(cs, cr)
         R = 1.2
         kw = dict(phi=0.1, radius=R, kT=0.1, gamma=4.5, eta=0.3, seed=5, h_cut=0.4, solvent_count="poisson",
                   boundary="stick")
-        s1, s2 = self.system(), self.system()
-        i1 = sus.setup_suspension(s1, radius_calibration="stresslet", **kw)
-        i2 = sus.setup_suspension(s2, **kw)  # "stick"
-        a = R / cs
-        self.assertEqual((i1["radius_calibration"], i1["radius_ratio"]), ("stresslet", cs))
-        self.assertAlmostEqual(i1["core_radius"], a, places=14)
-        self.assertAlmostEqual(i1["stresslet_radius"], R, places=14)
-        self.assertAlmostEqual(i1["phi_stresslet"], i1["phi"], places=14)
-        for info, ratio in ((i1, cs), (i2, ct)):
-            core = info["core_radius"]
+        infos = [(sus.setup_suspension(self.system(), **kw), ct)]  # "stick"
+        for name, c in (("rotation", cr), ("stresslet", cs)):
+            with self.subTest(radius_calibration=name):
+                s = self.system()
+                info = sus.setup_suspension(s, radius_calibration=name, **kw)
+                a = R / c
+                self.assertEqual((info["radius_calibration"], info["radius_ratio"]), (name, c))
+                self.assertAlmostEqual(info["core_radius"], a, places=14)
+                self.assertAlmostEqual(info["phi_core"], info["phi"] / c ** 3, places=14)
+                col = s.part.by_ids(info["colloid_ids"])
+                np.testing.assert_allclose(col.mass, 3 * 4 / 3 * math.pi * a ** 3, rtol=1e-14)
+                self.assertAlmostEqual(s.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], a, places=14)
+                self.assertEqual(info["n_colloids"], infos[0][0]["n_colloids"])
+                infos.append((info, c))
+        for info, ratio in infos:  # the given radius is the calibration's (ratio x core)
             for key, c in (("hydrodynamic", ct), ("rotational", cr), ("stresslet", cs)):
-                self.assertAlmostEqual(info[key + "_radius"], core * c, places=14)
+                self.assertAlmostEqual(info[key + "_radius"], R * c / ratio, places=14)
                 self.assertAlmostEqual(info["phi_" + key], info["phi"] * (c / ratio) ** 3, places=14)
-        col = s1.part.by_ids(i1["colloid_ids"])
-        np.testing.assert_allclose(col.mass, 3 * 4 / 3 * math.pi * a ** 3, rtol=1e-14)
-        self.assertAlmostEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params()["a1"], a, places=14)
-        self.assertEqual(i1["n_colloids"], i2["n_colloids"])
-        s3 = self.system()
-        i3 = sus.setup_suspension(s3, **dict(kw, boundary="slip"))
-        self.assertIsNone(i3["stresslet_radius"])
-        self.assertIsNone(i3["phi_stresslet"])
+        slip = sus.setup_suspension(self.system(), **dict(kw, boundary="slip"))
+        for key in ("rotational_radius", "phi_rotational", "stresslet_radius", "phi_stresslet"):
+            self.assertIsNone(slip[key])
 
     def test_radius_calibration_arg(self):
         """The command-line form of radius_calibration (samples, benches): the names
