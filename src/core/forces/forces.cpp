@@ -320,16 +320,19 @@ std::string System::non_finite_force_message(int i) const {
 }
 
 void System::compute_fast_forces() {
-  int const n = m_ps.n_local();
   // Outside the colloid pairs' particles the fast force is zero: after the
   // first call since a list rebuild only those are reset (and checked)
   bool partial = false;
 #ifdef MARBLE
-  partial = m_colloids.any() && !m_comm.parallel() && m_f_fast.size() == static_cast<std::size_t>(n) &&
+  partial = m_colloids.any() && m_f_fast.size() == static_cast<std::size_t>(m_ps.size()) &&
             m_f_fast_rebuild == m_cells.n_rebuilds();
 #endif
   if (partial) {
     for_each_fast_member([&](int i) { m_f_fast[i] = Vector3d{}; });
+#ifdef MARBLE
+    for (int g : m_colloids.pair_copies()) // (the other copies' zeros were never written)
+      m_f_fast[g] = Vector3d{};
+#endif
   } else {
     m_f_fast.assign(static_cast<std::size_t>(m_ps.size()), Vector3d{});
     m_f_fast_rebuild = m_cells.n_rebuilds();
@@ -343,7 +346,6 @@ void System::compute_fast_forces() {
     // locals: Colloids::find_pairs) leave forces on those copies, returned to their owners
     m_cells.reduce_replicated_ghost_values(m_ps, m_f_fast);
   }
-  m_f_fast.resize(static_cast<std::size_t>(n)); // (one rank: the colloid pairs hold locals only)
   // collective: every rank throws, with the message of the first bad rank
   int bad = -1;
   for_each_fast_member([&](int i) {

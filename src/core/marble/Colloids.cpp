@@ -32,20 +32,22 @@ void Colloids::rebuild(ParticleStore const &ps, BoxGeometry const &box, CellSyst
                        InteractionTable const &ia) {
   m_pairs.clear();
   m_members.clear();
+  m_copies.clear();
   if (!m_any)
     return;
   find_pairs(ps, box, cells, ia);
   for (auto const &pr : m_pairs)
     for (int k : {pr.colloid, pr.other})
-      if (k < ps.n_local())
-        m_members.push_back(k);
+      (k < ps.n_local() ? m_members : m_copies).push_back(k);
   // every local colloid: on several ranks one whose partners are all on other
   // ranks gets its fast forces from there (as a remote colloid ghost)
   for (int k = 0; k < ps.n_local(); ++k)
     if (is_colloid_type(ps.type[k]))
       m_members.push_back(k);
-  std::sort(m_members.begin(), m_members.end());
-  m_members.erase(std::unique(m_members.begin(), m_members.end()), m_members.end());
+  for (auto *list : {&m_members, &m_copies}) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
 }
 
 void Colloids::find_pairs(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,

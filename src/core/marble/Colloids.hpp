@@ -64,6 +64,9 @@ public:
    * outside them the colloid pairs' forces are zero, also after the ghosts'
    * forces came back (RESPA's substeps need only these). */
   std::vector<int> const &pair_members() const { return m_members; }
+  /** The other ranks' colloid copies (ghost indices) in a colloid pair, ascending,
+   * as of the last rebuild: the only ghosts the pairs' forces act on. */
+  std::vector<int> const &pair_copies() const { return m_copies; }
 
 private:
   void find_pairs(ParticleStore const &ps, BoxGeometry const &box, CellSystem const &cells,
@@ -79,6 +82,7 @@ private:
   std::vector<char> m_is_colloid;
   std::vector<Pair> m_pairs;
   std::vector<int> m_members;
+  std::vector<int> m_copies;
 };
 
 } // namespace Marble

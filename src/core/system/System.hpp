@@ -254,11 +254,12 @@ public:
   // --- force evaluation (used by the integrators and tests) ---
   void compute_forces(bool with_thermostat);
   /** RESPA: the fast forces (the conservative pair kernels of the colloid
-   * pair list) at the current positions into m_f_fast (locals; on several
-   * ranks the forces on the other ranks' colloid copies go back to their owners).
+   * pair list) at the current positions into m_f_fast (locals, then ghosts:
+   * zero there; on several ranks the forces on the other ranks' colloid
+   * copies go back to their owners).
    * Does not touch the lists: they must be valid (run_md_respa). */
   void compute_fast_forces();
-  /** The last compute_fast_forces' result (locals, in their order then). */
+  /** The last compute_fast_forces' result (locals, in their order then; then the ghosts' zeros). */
   std::vector<Utils::Vector3d> const &fast_forces() const { return m_f_fast; }
   bool forces_valid() const { return m_forces_valid; }
   double max_cutoff() const { return m_ia.max_cutoff(); }
@@ -369,11 +370,9 @@ private:
 
 template <class Fn> void System::for_each_fast_member(Fn &&fn) const {
 #ifdef MARBLE
-  if (m_colloids.any() && !m_comm.parallel()) {
-    int const n = m_ps.n_local();
+  if (m_colloids.any()) { // (several ranks: every local colloid is a member)
     for (int i : m_colloids.pair_members())
-      if (i < n)
-        fn(i);
+      fn(i);
     return;
   }
 #endif
