@@ -11,6 +11,7 @@
 #include "utils/errors.hpp"
 
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -320,6 +321,7 @@ std::string System::non_finite_force_message(int i) const {
 }
 
 void System::compute_fast_forces() {
+  assert(m_cells.valid()); // the partial zeroing trusts the lists of the last rebuild
   // Outside the colloid pairs' particles the fast force is zero: after the
   // first call since a list rebuild only those are reset (and checked)
   bool partial = false;

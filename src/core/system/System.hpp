@@ -254,12 +254,12 @@ public:
   // --- force evaluation (used by the integrators and tests) ---
   void compute_forces(bool with_thermostat);
   /** RESPA: the fast forces (the conservative pair kernels of the colloid
-   * pair list) at the current positions into m_f_fast (locals, then ghosts:
-   * zero there; on several ranks the forces on the other ranks' colloid
-   * copies go back to their owners).
+   * pair list) at the current positions into m_f_fast (locals, then ghosts;
+   * on several ranks the forces on the other ranks' colloid copies are added
+   * to their owners, and stay in the copies' entries; every other ghost's is 0).
    * Does not touch the lists: they must be valid (run_md_respa). */
   void compute_fast_forces();
-  /** The last compute_fast_forces' result (locals, in their order then; then the ghosts' zeros). */
+  /** The last compute_fast_forces' result (locals, in their order then; then the ghosts, as above). */
   std::vector<Utils::Vector3d> const &fast_forces() const { return m_f_fast; }
   bool forces_valid() const { return m_forces_valid; }
   double max_cutoff() const { return m_ia.max_cutoff(); }
@@ -311,10 +311,12 @@ private:
    * substeps before the refused one stay done). Returns whether the colloid
    * pair list must be rebuilt before fast forces at the new positions. */
   bool drift_checked_substep(double kick_dt, double h);
-  /** v += kick_dt F_fast/m of the locals (fixed components: v = 0). */
+  /** v += kick_dt F_fast/m of the fast members (fixed components: v = 0;
+   * the other locals' fixed components are zeroed by the kick that follows). */
   void kick_fast(double kick_dt);
-  /** fn(i) for every local whose fast force may be non-zero: the particles
-   * of the colloid pair list (one rank), else every local. */
+  /** fn(i) for every local whose fast force may be non-zero: with colloids
+   * the colloid pair list's members (every local colloid among them), on any
+   * number of ranks; without, every local. */
   template <class Fn> void for_each_fast_member(Fn &&fn) const;
   /** RESPA's substeps with the particles outside the colloid pair list done
    * in two sweeps for all substeps (integrate.cpp); returns the number of
