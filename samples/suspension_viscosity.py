@@ -38,7 +38,7 @@ surface_friction, doc/suspensions.md section 7c) whose hydrodynamic radius is R 
 (core radius R/1.013, section 7d; ``--radius-calibration none`` builds the core R = 1
 as before; ``--radius-calibration rotation``: R = 1 is the rotational radius, core
 R/1.0623, section 7m; ``--radius-calibration stresslet``: R = 1 is the strain radius of
-Einstein's viscosity, core R/1.037, section 7p); phi is then the volume fraction of spheres of that radius and
+Einstein's viscosity, core R/1.032, section 7p); phi is then the volume fraction of spheres of that radius and
 the cores' is printed too, with the volume fractions of the rotational and the strain
 radius and Krieger-Dougherty there. The solvent has exactly rho x free volume beads for "slip" and the "bulk" count for
 "stick" (setup_suspension's stick default; ``--solvent-count poisson``: a
@@ -170,7 +170,7 @@ def main():
     parser.add_argument("--radius-calibration", default=None,
                         help="stick: which radius R = 1 is: 'stick' (default: the hydrodynamic radius, core "
                              "R/1.013, doc/suspensions.md section 7d), 'rotation' (the rotational radius, core "
-                             "R/1.0623, section 7m), 'stresslet' (the strain radius, core R/1.037, section "
+                             "R/1.0623, section 7m), 'stresslet' (the strain radius, core R/1.032, section "
                              "7p), 'none' (the core) or a ratio")
     parser.add_argument("--solvent-count", choices=["exact", "poisson", "bulk"], default=None,
                         help="solvent beads: exactly rho x free volume (default for slip; stick: "

@@ -47,10 +47,11 @@ STICK_ROTATIONAL_RADIUS_RATIO_ERR = 0.0035
 #: the whole box's shear stress against the solvent alone, the periodic lattice's
 #: factor included), extrapolated to rate 0 with S0 + b rate^2 over rates 0.05, 0.1
 #: and 0.2 (doc/suspensions.md section 7p; error STICK_STRESSLET_RADIUS_RATIO_ERR, the
-#: fit's; the rate^1.5 fit gives 0.4 % less). The radius of Einstein's viscosity
-#: 1 + 2.5 phi; it lies between the drag and the rotational radius.
-STICK_STRESSLET_RADIUS_RATIO = 1.037
-STICK_STRESSLET_RADIUS_RATIO_ERR = 0.010
+#: fit's; the rate^1.5 fit gives 0.5 % less; 68 runs, session 20). The radius of
+#: Einstein's viscosity 1 + 2.5 phi: 1.9 % above the drag radius (2.8 sigma) and 2.8 %
+#: below the rotational radius (3.8 sigma, which it excludes).
+STICK_STRESSLET_RADIUS_RATIO = 1.032
+STICK_STRESSLET_RADIUS_RATIO_ERR = 0.008
 
 # radius / core radius of each named stick calibration (setup_suspension's radius_calibration)
 _STICK_CALIBRATIONS = {"stick": STICK_RADIUS_RATIO, "rotation": STICK_ROTATIONAL_RADIUS_RATIO,
@@ -248,7 +249,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       a = radius / STICK_ROTATIONAL_RADIUS_RATIO (1.0623 +/- 0.0035, section 7m);
       ``"stresslet"`` (stick only): ``radius`` is the strain radius, that of the
       stresslet of one colloid in shear (the radius in Einstein's 1 + 2.5 phi),
-      and a = radius / STICK_STRESSLET_RADIUS_RATIO (1.037 +/- 0.010, section 7p):
+      and a = radius / STICK_STRESSLET_RADIUS_RATIO (1.032 +/- 0.008, section 7p):
       the choice for viscosity work (it lies between the drag and the rotational
       radius); or a number c > 0 (your own measured ratio): a = radius / c. Everything of the
       colloid is then built on the core a: the offsets of the colloid-solvent
