@@ -43,12 +43,17 @@ def test_respa_trajectory_1_vs_n_ranks(respa_runs, ranks):
     assert int(other["migrated"]) > 50
 
 
+@pytest.fixture(scope="module")
+def respa_plain_one():
+    return run("respa_plain", 1)
+
+
 @pytest.mark.parametrize("ranks", [2, 3])
-def test_respa_without_colloids_or_ghosts(ranks):
+def test_respa_without_colloids_or_ghosts(respa_plain_one, ranks):
     """No colloid and no pair range (no ghosts at all): the substeps' exchange of
     colloid copies must have its (empty) lists all the same (this scene crashed on
     2 ranks before they were reset with every ghost set-up)."""
-    one, other = run("respa_plain", 1), run("respa_plain", ranks)
+    one, other = respa_plain_one, run("respa_plain", ranks)
     assert int(other["ranks"]) == ranks
     assert_same_trajectory(one, other)
     assert int(other["migrated"]) > 50

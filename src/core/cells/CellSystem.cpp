@@ -217,6 +217,23 @@ struct GhostUpdate {
 struct GhostForce {
   Vector3d f, torque;
 };
+// an owner's state for its ghost at @p shift, and that state written into ghost @p g
+GhostUpdate ghost_update_of(ParticleStore const &ps, int i, Vector3d const &shift) {
+  GhostUpdate u;
+  u.pos = ps.pos[i] + shift;
+  u.v = ps.v[i];
+#ifdef ROTATION
+  u.omega = ps.omega[i];
+#endif
+  return u;
+}
+void apply_ghost_update(ParticleStore &ps, int g, GhostUpdate const &u) {
+  ps.pos[g] = u.pos;
+  ps.v[g] = u.v;
+#ifdef ROTATION
+  ps.omega[g] = u.omega;
+#endif
+}
 } // namespace
 
 // Send every local whose folded position lies in another rank's domain to
@@ -1340,23 +1357,8 @@ void CellSystem::update_ghosts(ParticleStore &ps) const {
   });
   if (!parallel())
     return;
-  to_remote_ghosts<GhostUpdate>(
-      [&](SendEntry const &e) {
-        GhostUpdate u;
-        u.pos = ps.pos[e.index] + e.shift;
-        u.v = ps.v[e.index];
-#ifdef ROTATION
-        u.omega = ps.omega[e.index];
-#endif
-        return u;
-      },
-      [&](int g, GhostUpdate const &u) {
-        ps.pos[g] = u.pos;
-        ps.v[g] = u.v;
-#ifdef ROTATION
-        ps.omega[g] = u.omega;
-#endif
-      });
+  to_remote_ghosts<GhostUpdate>([&](SendEntry const &e) { return ghost_update_of(ps, e.index, e.shift); },
+                                [&](int g, GhostUpdate const &u) { apply_ghost_update(ps, g, u); });
 }
 
 void CellSystem::update_replicated_ghosts(ParticleStore &ps) const {
@@ -1368,28 +1370,16 @@ void CellSystem::update_replicated_ghosts(ParticleStore &ps) const {
       [&](int q, GhostUpdate *out) {
         for (int k : m_rep_send[q]) {
           SendEntry const &e = m_send[q][static_cast<std::size_t>(k)];
-          GhostUpdate &u = *out++;
-          u.pos = ps.pos[e.index] + e.shift;
-          u.v = ps.v[e.index];
-#ifdef ROTATION
-          u.omega = ps.omega[e.index];
-#endif
+          *out++ = ghost_update_of(ps, e.index, e.shift);
         }
       },
       [&](int q, GhostUpdate const *in) {
-        for (int g : m_rep_recv[q]) {
-          GhostUpdate const &u = *in++;
-          ps.pos[g] = u.pos;
-          ps.v[g] = u.v;
-#ifdef ROTATION
-          ps.omega[g] = u.omega;
-#endif
-        }
+        for (int g : m_rep_recv[q])
+          apply_ghost_update(ps, g, *in++);
       });
 }
 
-void CellSystem::reduce_replicated_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const {
-  (void)ps;
+void CellSystem::reduce_replicated_ghost_values(std::vector<Utils::Vector3d> &x) const {
   if (!parallel())
     return;
   exchange_records<Vector3d>(

@@ -142,7 +142,7 @@ public:
   void update_replicated_ghosts(ParticleStore &ps) const;
   /** reduce_ghost_values for the other ranks' copies of the replicated types
    * only (the entries of every other ghost must be zero). Collective. */
-  void reduce_replicated_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
+  void reduce_replicated_ghost_values(std::vector<Utils::Vector3d> &x) const;
   /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective.
    * With Lees-Edwards: more than (skin - |offset change since the build|) / 2. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;

@@ -346,7 +346,7 @@ void System::compute_fast_forces() {
   if (m_comm.parallel()) {
     // several ranks: pairs with other ranks' colloids (the partners are
     // locals: Colloids::find_pairs) leave forces on those copies, returned to their owners
-    m_cells.reduce_replicated_ghost_values(m_ps, m_f_fast);
+    m_cells.reduce_replicated_ghost_values(m_f_fast);
   }
   // collective: every rank throws, with the message of the first bad rank
   int bad = -1;

@@ -85,8 +85,12 @@ def radius_calibration_arg(text):
     try:
         return float(text)
     except (TypeError, ValueError):
-        raise ValueError("parameter 'radius_calibration' must be 'none', "
-                         f"{', '.join(repr(k) for k in _STICK_CALIBRATIONS)} or a ratio > 0, got {text!r}") from None
+        raise _bad_radius_calibration(text) from None
+
+
+def _bad_radius_calibration(value):
+    return ValueError("parameter 'radius_calibration' must be 'none', "
+                      f"{', '.join(repr(k) for k in _STICK_CALIBRATIONS)} or a ratio > 0, got {value!r}")
 
 
 def equal_volume_cutoff(R, r_cut=1.0):
@@ -338,8 +342,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                              "boundary='stick' only (use 'none' or your own ratio)")
         ratio = _STICK_CALIBRATIONS[radius_calibration]
     elif isinstance(radius_calibration, str):
-        raise ValueError("parameter 'radius_calibration' must be 'none', 'stick', 'rotation', 'stresslet' "
-                         f"or a ratio > 0, got {radius_calibration!r}")
+        raise _bad_radius_calibration(radius_calibration)
     else:
         ratio = _positive("radius_calibration", radius_calibration)
     # the core radius: every colloid interaction, the solvent removal and the mass use it
