@@ -3,6 +3,10 @@ marble paper's solvent: a = 0, gamma = 5, r_c = 1, kT = 1, dt = 0.01) in
 boxes L = 20 and 40 on 1 and 2 MPI ranks.
 
 Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [--name NAME] [--out DIR]
+                                          [--bind-to none|core]
+
+(--bind-to: mpiexec's process binding; default none. Session 21 alternated the
+two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
 Every launch (`mpiexec -n N`) builds the fluid, relaxes it and times
 integrator.run() in several rounds; launches of the rank counts compared are
@@ -100,12 +104,12 @@ def others_share(c0, c1):
     return others / cap, (c1["steal"] - c0["steal"]) / cap
 
 
-def launch(ranks, L, steps, rounds):
+def launch(ranks, L, steps, rounds, bind="none"):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                    OMPI_MCA_rmaps_base_oversubscribe="1")
-        cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", "none", sys.executable,
+        cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", bind, sys.executable,
                os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out]
         subprocess.run(cmd, env=env, check=True)
         recs = []
@@ -127,6 +131,8 @@ def main():
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--launches", type=int, default=3, help="launches per rank count")
     p.add_argument("--sizes", type=float, nargs="+", help="run only these box sizes (of 20 40; quick: 10 20)")
+    p.add_argument("--bind-to", default="none", choices=["none", "core"],
+                   help="mpiexec's process binding (default none)")
     p.add_argument("--name", help="output file name (default mpi_scaling or mpi_scaling_quick)")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
@@ -144,7 +150,7 @@ def main():
     counters0 = cpu_counters()
     res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
-               launches=a.launches, rounds_per_launch=rounds, cases={})
+               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, cases={})
     for L, steps in cases.items():
         samples = {n: [] for n in a.ranks}
         cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
@@ -152,7 +158,7 @@ def main():
         comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
         for k in range(a.launches):
             for n in a.ranks:
-                r = launch(n, L, steps, rounds)
+                r = launch(n, L, steps, rounds, a.bind_to)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]
