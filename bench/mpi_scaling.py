@@ -3,9 +3,10 @@ marble paper's solvent: a = 0, gamma = 5, r_c = 1, kT = 1, dt = 0.01) in
 boxes L = 20 and 40 on 1 and 2 MPI ranks.
 
 Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [--name NAME] [--out DIR]
-                                          [--bind-to none|core]
+                                          [--bind-to none|core] [--integrator vv|shardlow]
 
-(--bind-to: mpiexec's process binding; default none. Session 21 alternated the
+(--integrator shardlow: the same fluid under Shardlow at dt = 0.04, on several
+ranks since session 21. --bind-to: mpiexec's process binding; default none. Session 21 alternated the
 two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
 Every launch (`mpiexec -n N`) builds the fluid, relaxes it and times
@@ -44,16 +45,18 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def worker(L, steps, rounds, out):
+def worker(L, steps, rounds, out, integrator="vv"):
     import marble
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
     s = marble.System(box_l=[L, L, L])
-    s.time_step = 0.01
+    s.time_step = 0.04 if integrator == "shardlow" else 0.01
     s.cell_system.skin = 0.4
     s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
     s.thermostat.set_dpd(kT=1.0, seed=7)
     s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+    if integrator == "shardlow":
+        s.integrator.set_shardlow()
     s.integrator.run(30)
     core = s._core
     wall, cpu, comm_cpu, comm_wall = [], [], [], []
@@ -104,13 +107,14 @@ def others_share(c0, c1):
     return others / cap, (c1["steal"] - c0["steal"]) / cap
 
 
-def launch(ranks, L, steps, rounds, bind="none"):
+def launch(ranks, L, steps, rounds, bind="none", integrator="vv"):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                    OMPI_MCA_rmaps_base_oversubscribe="1")
         cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", bind, sys.executable,
-               os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out]
+               os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out,
+               "--integrator", integrator]
         subprocess.run(cmd, env=env, check=True)
         recs = []
         for r in range(ranks):
@@ -131,6 +135,8 @@ def main():
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--launches", type=int, default=3, help="launches per rank count")
     p.add_argument("--sizes", type=float, nargs="+", help="run only these box sizes (of 20 40; quick: 10 20)")
+    p.add_argument("--integrator", default="vv", choices=["vv", "shardlow"],
+                   help="velocity Verlet at dt = 0.01 (default) or Shardlow at dt = 0.04")
     p.add_argument("--bind-to", default="none", choices=["none", "core"],
                    help="mpiexec's process binding (default none)")
     p.add_argument("--name", help="output file name (default mpi_scaling or mpi_scaling_quick)")
@@ -138,7 +144,7 @@ def main():
     p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.worker:
-        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3])
+        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator)
         return
     cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
     if a.sizes:
@@ -150,7 +156,7 @@ def main():
     counters0 = cpu_counters()
     res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
-               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, cases={})
+               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, cases={})
     for L, steps in cases.items():
         samples = {n: [] for n in a.ranks}
         cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
@@ -158,7 +164,7 @@ def main():
         comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
         for k in range(a.launches):
             for n in a.ranks:
-                r = launch(n, L, steps, rounds, a.bind_to)
+                r = launch(n, L, steps, rounds, a.bind_to, a.integrator)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]

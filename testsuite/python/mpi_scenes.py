@@ -208,10 +208,88 @@ def scene_dpd_vv():
                    comega=col.omega_lab)
 
 
-def scene_shardlow():
+def scene_shardlow_narrow():
+    """Shardlow on ranks whose domains (2 wide) are narrower than twice the
+    pair range (1.4): refused before any step; one rank runs."""
     s = fluid(4.0)
     s.integrator.set_shardlow()
-    return s, dict(msg=np.array(_run_error(s, 1)))
+    return s, dict(msg=np.array(_run_error(s, 1)), step=np.array(s.step))
+
+
+def scene_shardlow_marble():
+    """Shardlow with a marble colloid on several ranks: refused (its coupling's sweep runs on one rank)."""
+    from marble.colloids import add_marble
+    s = fluid(8.0)
+    add_marble(s, pos=[4.0, 4.0, 4.0], radius=1.5, gamma=5.0)
+    s.integrator.set_shardlow()
+    return s, dict(msg=np.array(_run_error(s, 1)), step=np.array(s.step))
+
+
+def shardlow_dimers(L=12.0, spacing=3.0, seed=8):
+    """Isolated pairs (dimers 0.6 long, centres 3 apart, x = 3 i + 0.05): every
+    particle has one partner, so the Shardlow sweep's order does not matter
+    and every decomposition gives the same trajectory. Several of them straddle
+    the domain faces of 2 and 3 ranks (x = 0, 4, 6, 8)."""
+    rng = np.random.default_rng(seed)
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.04
+    s.cell_system.skin = 0.4
+    g = np.arange(0.0, L - 1e-9, spacing)
+    centres = np.array([[x + 0.05, y + 0.05, z + 0.05] for x in g for y in g for z in g])
+    u = rng.normal(size=(len(centres), 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    pos = np.concatenate([centres + 0.3 * u, centres - 0.3 * u]) % L
+    s.part.add(pos=pos, v=0.3 * rng.normal(size=pos.shape))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=1.0, seed=4)
+    s.integrator.set_shardlow()
+    return s, pos
+
+
+def scene_shardlow_dimers():
+    s, pos0 = shardlow_dimers()
+    s.integrator.run(15)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, pos0=pos0)
+
+
+def scene_shardlow_suspension():
+    """Colloids (R = 1, phi = 0.2, large-range grid on N ranks) with squeeze
+    lubrication in a DPD solvent under Shardlow (dt = 1e-3): the colloid
+    pairs come to the other ranks from all sides, and their lubrication is in
+    the sweep. L = 14: domains 7 wide on 2 ranks, at least twice the colloid
+    pairs' range (2 R + h_cut + skin = 3.4). The total momentum must stay."""
+    s = marble.System(box_l=[14.0] * 3)
+    s.time_step = 1e-3
+    s.cell_system.skin = 0.4
+    info = marble.suspensions.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
+                                               seed=4, h_cut=1.0)
+    s.integrator.set_shardlow()
+    parts = s.part.all()
+    m = np.asarray(parts.mass).reshape(-1, 1)
+    p0 = (m * parts.v).sum(axis=0)
+    s.integrator.run(30)
+    parts = s.part.all()
+    p1 = (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
+    return s, dict(p0=p0, p1=p1, n=np.array(len(parts.id)), n_colloids=np.array(info["n_colloids"]),
+                   types=np.array(s.cell_system.get_state()["large_range_types"]),
+                   node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_shardlow_temperature():
+    """The ideal DPD fluid (a = 0) under Shardlow at dt = 0.04: kT = 1 for any
+    dt (the sweep is exact, the drift is free flight); the total momentum
+    stays what it was."""
+    s = fluid(9.0, seed=9, dt=0.04)
+    s.integrator.set_shardlow()
+    parts = s.part.all()
+    p0 = parts.v.sum(axis=0)
+    s.integrator.run(100)
+    kT = []
+    for _ in range(60):
+        s.integrator.run(10)
+        kT.append(2.0 / 3.0 * s.analysis.energy()["kinetic"] / len(s.part.all()))
+    return s, dict(kT=np.array(kT), p0=p0, p1=s.part.all().v.sum(axis=0))
 
 
 def scene_respa():

@@ -211,9 +211,70 @@ def test_dpd_vv_1_vs_2_ranks():
 
 
 @needs("DPD")
-def test_shardlow_refused_on_two_ranks():
-    msg = str(run("shardlow", 2)["msg"])
-    assert "one MPI rank" in msg, msg
+def test_shardlow_dimers_1_vs_2_vs_3_ranks():
+    """Shardlow on several ranks (integrators/shardlow.cpp): isolated pairs,
+    so the sweep's order does not matter and 1, 2 and 3 ranks must give the
+    same trajectory; the pairs straddling the domain faces go through the
+    boundary rounds (the ghost's velocity change sent to its owner)."""
+    runs = {n: run("shardlow_dimers", n) for n in (1, 2, 3)}
+    pos0 = runs[1]["pos0"]
+    half = len(pos0) // 2
+    a, b = pos0[:half, 0], pos0[half:, 0]  # the two particles of each dimer
+    for faces in ([0.0, 6.0], [0.0, 4.0, 8.0]):  # the node grids 2 x 1 x 1 and 3 x 1 x 1 of the 12^3 box
+        dom = lambda x: np.searchsorted(faces, x, side="right")
+        assert np.sum(dom(a) != dom(b)) >= 5, faces  # pairs across a face (periodic x = 0 included)
+    for n in (2, 3):
+        assert_same_trajectory(runs[1], runs[n], tol=1e-12)
+
+
+@needs("DPD")
+def test_shardlow_temperature_and_momentum_1_2_3_ranks():
+    """The ideal DPD fluid under Shardlow at dt = 0.04 (kT exact for any dt) on
+    1, 2 and 3 ranks: the total momentum is conserved to round-off, the
+    kinetic temperature is kT within the run's error, and the rank counts
+    agree statistically (their trajectories differ: the sweep's order follows
+    the decomposition)."""
+    means, errs = [], []
+    for n in (1, 2, 3):
+        r = run("shardlow_temperature", n)
+        np.testing.assert_allclose(r["p1"], r["p0"], rtol=0, atol=1e-9, err_msg=f"{n} ranks: momentum")
+        kT = r["kT"]
+        blocks = kT.reshape(10, -1).mean(axis=1)
+        m, e = kT.mean(), blocks.std(ddof=1) / np.sqrt(len(blocks))
+        assert e < 0.006, (n, e)  # so the test can fail
+        # (N - 1 degrees of freedom of the relative motion: <2/3 KE / N> = kT (1 - 1/N) + |P|^2 / (3 N M))
+        assert abs(m - 1.0) < 4 * e + 0.002, (n, m, e)
+        means.append(m), errs.append(e)
+    for k in (1, 2):
+        assert abs(means[k] - means[0]) < 4 * np.hypot(errs[k], errs[0]), (means, errs)
+
+
+@needs("DPD", "LUBRICATION")
+def test_shardlow_suspension_momentum_2_ranks():
+    """Colloids on their own large-range grid (full-shell ghosts from every
+    side) with lubrication in the sweep: the total momentum m v of colloids
+    and beads is conserved on 2 ranks as on one."""
+    for n in (1, 2):
+        r = run("shardlow_suspension", n)
+        assert list(r["types"]) == [1] and int(r["node_grid"][0]) == n, (r["types"], r["node_grid"])
+        np.testing.assert_allclose(r["p1"], r["p0"], rtol=0, atol=1e-9, err_msg=f"{n} ranks")
+
+
+@needs("DPD")
+def test_shardlow_refused_where_its_rounds_cannot_run():
+    one, two = run("shardlow_narrow", 1), run("shardlow_narrow", 2)
+    assert str(one["msg"]) == "no error"
+    msg = str(two["msg"])
+    assert "Shardlow" in msg and "twice the pair range" in msg and "node grid 2 x 1 x 1" in msg, msg
+    assert int(two["step"]) == 0  # refused before the first step
+
+
+@needs("DPD", "MARBLE")
+def test_shardlow_with_marble_refused_on_two_ranks():
+    res = run("shardlow_marble", 2)
+    msg = str(res["msg"])
+    assert "Shardlow" in msg and "marble colloids" in msg and "run on one rank" in msg, msg
+    assert int(res["step"]) == 0
 
 
 @needs("DPD")

@@ -340,6 +340,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   ps.clear_ghosts();
   int const size = m_comm ? m_comm->size() : 1, me = m_comm ? m_comm->rank() : 0;
   m_send.assign(static_cast<std::size_t>(size), {});
+  m_send_index.assign(static_cast<std::size_t>(size), {});
   m_recv_begin.assign(static_cast<std::size_t>(size), ps.n_local());
   m_recv_count.assign(static_cast<std::size_t>(size), 0);
   m_rep_send.assign(static_cast<std::size_t>(size), {}); // (every return below leaves them valid)

@@ -135,6 +135,14 @@ public:
   /** Add the ghosts' entries of @p x to their owners' (the reverse of
    * fill_ghost_values). Collective. */
   void reduce_ghost_values(ParticleStore const &ps, std::vector<Utils::Vector3d> &x) const;
+  /** Set @p flag[i] = 1 for every local i that the last build sent to another
+   * rank as a ghost (the locals other ranks can read and write: the Shardlow
+   * sweep's boundary, integrators/shardlow.cpp). Not collective. */
+  void mark_sent_locals(std::vector<char> &flag) const {
+    for (auto const &q : m_send_index)
+      for (int i : q)
+        flag[static_cast<std::size_t>(i)] = 1;
+  }
   /** update_ghosts for the other ranks' copies of the replicated (colloid)
    * types only: positions, velocities and omega; the other ghosts keep their
    * values (the RESPA substeps, whose colloid pairs read locals and these

@@ -20,6 +20,16 @@
 // Philox keyed by seed, salt dpd, counter, ordered ids, sign by id order), so
 // the sweep is reproducible; its result depends on the order of the pair list
 // (fixed for a given particle set, decomposition and seed).
+// Several MPI ranks: the pairs whose particles no other rank reads (neither
+// is a ghost elsewhere nor another rank's particle) are swept first, on every
+// rank at once; the others ("boundary" pairs) follow in rounds by the colour
+// of the rank's domain (its node-grid coordinates modulo 2, or 3 where an odd
+// periodic axis needs it, so neighbouring domains differ), one colour at a
+// time; after each round the ghosts' velocity changes go to their owners and
+// every ghost gets its owner's velocity. Domains at least twice the pair range
+// wide keep two ranks of one colour from reaching the same particle, so every
+// pair update still sees the velocities the previous ones left (sequential
+// semantics; the order, and so the trajectory, depends on the decomposition).
 //
 // DPD-VV (Besold, Vattulainen, Karttunen, Polson 2000): velocity Verlet whose
 // forces for the next first half kick carry the DPD friction recomputed from
@@ -55,9 +65,15 @@ using Utils::Vector3d;
 
 namespace {
 
+/** The slot whose velocity list entry @p k reads and writes: a local itself,
+ * a periodic image its owner, another rank's particle its own ghost slot
+ * (several ranks: the sweep's rounds send the change to the owner). */
 [[maybe_unused]] int owner(ParticleStore const &ps, int k) {
   int const nl = ps.n_local();
-  return k < nl ? k : ps.ghost_owner[k - nl];
+  if (k < nl)
+    return k;
+  int const o = ps.ghost_owner[k - nl];
+  return o >= 0 ? o : k;
 }
 
 #ifdef DPD
@@ -187,7 +203,80 @@ void for_each_selected_block(ParticleStore const &ps, PairList const &pairs, Int
     process(pair_block_select(pairs.extra.data() + b0, nb, pos, typ, cut2.data(), nt, bij.data(), B));
   }
 }
+/** Colours along an axis of @p g domains: neighbouring domains (across a
+ * periodic wrap too) get different colours, domains of one colour are at
+ * least two apart; 1 for an unsplit axis. */
+int colours_along(int g, bool periodic) {
+  if (g <= 1)
+    return 1;
+  int k = 2;
+  while (periodic && g % k == 1) // (the last domain and the first are neighbours)
+    ++k;
+  return k;
+}
+
+/** Several ranks: the boundary @p pairs (list entries, in list order) swept
+ * in rounds by the colour of the rank's domain, @p sweep(block) doing one
+ * block; after each round the ghosts' velocity changes are added to their
+ * owners' and every ghost gets its owner's velocity (after the last round
+ * only the first: the next step's ghost update refreshes them). Collective. */
+template <class Sweep>
+void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &pairs, Sweep &&sweep) {
+  auto &ps = sys.particles();
+  auto &cells = sys.cells();
+  auto const g = cells.node_grid(sys.box());
+  auto const at = CellSystem::coords_at(g, sys.comm().rank());
+  int mine = 0, n_colours = 1;
+  for (int d = 0; d < 3; ++d) {
+    int const k = colours_along(g[d], sys.box().periodic(d));
+    mine = mine * k + at[d] % k;
+    n_colours *= k;
+  }
+  constexpr int kBlock = 248; // (as the select's blocks)
+  int const nl = ps.n_local();
+  std::vector<Vector3d> v0, dv;
+  PairBlock b;
+  for (int c = 0; c < n_colours; ++c) {
+    dv.assign(static_cast<std::size_t>(ps.size()), Vector3d{});
+    if (c == mine) {
+      v0.assign(ps.v.begin() + nl, ps.v.end());
+      for (std::size_t p0 = 0; p0 < pairs.size(); p0 += kBlock) {
+        int const n = static_cast<int>(std::min<std::size_t>(kBlock, pairs.size() - p0));
+        for (int s = 0; s < n; ++s)
+          b.i[s] = pairs[p0 + s][0], b.j[s] = pairs[p0 + s][1];
+        b.size = n;
+        sweep(static_cast<PairBlock const &>(b));
+      }
+      for (int k = nl; k < ps.size(); ++k)
+        if (ps.ghost_owner[k - nl] < 0) // (periodic images were booked on their owners)
+          dv[k] = ps.v[k] - v0[k - nl];
+    }
+    cells.reduce_ghost_values(ps, dv);
+    for (int i = 0; i < nl; ++i)
+      ps.v[i] += dv[i];
+    if (c + 1 < n_colours)
+      cells.fill_ghost_values(ps, ps.v);
+  }
+}
 } // namespace
+
+void check_shardlow_decomposition(System &sys) {
+  if (!sys.comm().parallel())
+    return;
+  auto &cells = sys.cells();
+  double const r = std::max({cells.range(), cells.range_ll(), cells.range_ls()});
+  auto const g = cells.node_grid(sys.box());
+  auto const &L = sys.box().length();
+  for (int d = 0; d < 3; ++d)
+    if (g[d] > 1 && L[d] / g[d] < 2. * r)
+      throw Utils::RuntimeError(
+          "cannot integrate with the Shardlow integrator on " + std::to_string(sys.comm().size()) +
+          " MPI ranks: the domains are " + Utils::to_str(L[d] / g[d]) + " wide along axis " + std::to_string(d) +
+          " (node grid " + std::to_string(g[0]) + " x " + std::to_string(g[1]) + " x " + std::to_string(g[2]) +
+          "), less than twice the pair range (cutoff + skin = " + Utils::to_str(r) +
+          "), which its sweep's rounds need; use fewer ranks, a larger box or a smaller skin, or "
+          "integrator.set_vv() / set_dpd_vv() (doc/parallel.md)");
+}
 
 void shardlow_sweep(System &sys) {
   auto &ps = sys.particles();
@@ -224,8 +313,25 @@ void shardlow_sweep(System &sys) {
   bool const any_lub = ia.any_active<Lubrication>();
 #endif
   auto const soa = std::make_unique<PairBlockSoA>();
-  // (select_pairs: right after a rebuild, the pairs within the largest cutoff only)
-  for_each_selected_block(ps, sys.cells().select_pairs(), ia, *soa, [&](PairBlock const &b, PairBlockSoA const &D) {
+  // Several ranks: boundary[k] for list entry k = another rank reads or
+  // writes its velocity (a local sent as a ghost, or another rank's
+  // particle; a periodic image as its owner). The pairs touching one are
+  // deferred to the rounds below.
+  bool const par = sys.comm().parallel();
+  int const nl = ps.n_local();
+  std::vector<char> boundary;
+  std::vector<std::array<int, 2>> deferred;
+  if (par) {
+    sys.cells().fill_ghost_values(ps, ps.v); // the ghosts at their owners' velocities (after the kick)
+    boundary.assign(static_cast<std::size_t>(ps.size()), 0);
+    sys.cells().mark_sent_locals(boundary);
+    for (int k = nl; k < ps.size(); ++k) {
+      int const o = ps.ghost_owner[k - nl];
+      boundary[k] = o >= 0 ? boundary[o] : 1;
+    }
+  }
+  // one block of selected pairs (b, their d in D); @p defer: leave the boundary pairs for later
+  auto sweep_block = [&](PairBlock const &b, PairBlockSoA const &D, bool defer) {
     // the noise of the block's pairs (independent draws the CPU overlaps)
     if (kT > 0.)
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
@@ -292,6 +398,10 @@ void shardlow_sweep(System &sys) {
 #endif
           }
         }
+      }
+      if (defer && f != 0 && (boundary[i] | boundary[j])) {
+        deferred.push_back({i, j});
+        f = 0;
       }
       B.flags[s] = f;
     }
@@ -458,7 +568,18 @@ void shardlow_sweep(System &sys) {
     }
     if (ci >= 0)
       ps.v[ci] = vi;
-  });
+  };
+  // (select_pairs: right after a rebuild, the pairs within the largest cutoff only)
+  for_each_selected_block(ps, sys.cells().select_pairs(), ia, *soa,
+                          [&](PairBlock const &b, PairBlockSoA const &D) { sweep_block(b, D, par); });
+  if (par)
+    sweep_boundary_rounds(sys, deferred, [&](PairBlock const &b) {
+      for (int s = 0; s < b.size; ++s) {
+        Vector3d const d = ps.pos[b.i[s]] - ps.pos[b.j[s]];
+        soa->dx[s] = d[0], soa->dy[s] = d[1], soa->dz[s] = d[2];
+      }
+      sweep_block(b, *soa, false);
+    });
 #ifdef MARBLE
   // then the marble colloids' surface coupling, pair by pair in the colloid
   // list's order: its own exact update (marble/Colloids.cpp), so a large
