@@ -246,6 +246,44 @@ def shardlow_dimers(L=12.0, spacing=3.0, seed=8):
     return s, pos
 
 
+def shardlow_clusters(L=12.0):
+    """Small clusters of three particles a1 - p - a2 (two pairs sharing p, a1
+    and a2 out of range of each other) placed across the domain faces of 2, 3
+    and 4 ranks: chains across the faces x = 4, 6, 8 (their two pairs on
+    different ranks), and one across the periodic face x = 0 whose a1 and a2
+    see p through two periodic images along z (an axis these node grids do not
+    split). Returns (positions, velocities, external forces), clusters in
+    rows of three: a1, p, a2."""
+    pos, vel = [], []
+    rng = np.random.default_rng(21)
+    for f, y in ((4.0, 3.0), (6.0, 6.5), (8.0, 9.5)):
+        pos += [[f - 0.6, y, 6.0], [f + 0.1, y + 0.05, 6.0], [f + 0.8, y, 6.1]]
+    pos += [[L - 0.25, 6.0, 0.75], [0.2, 6.0, 0.2], [L - 0.25, 6.0, L - 0.35]]
+    vel = rng.normal(size=(len(pos), 3))
+    force = 0.5 * rng.normal(size=(len(pos), 3))
+    return np.array(pos), vel, force
+
+
+def scene_shardlow_clusters():
+    """One Shardlow step (kT = 0, a = 0, an external force on every particle,
+    so the half kick before the sweep changes the velocities) of
+    shardlow_clusters(): the test compares each cluster with the two
+    sequential orders of its pairs, computed in numpy."""
+    L = 12.0
+    pos, vel, force = shardlow_clusters(L)
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.05
+    s.cell_system.skin = 0.4
+    s.part.add(pos=pos, v=vel, ext_force=force)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=40.0, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=0.0, seed=3)
+    s.integrator.set_shardlow()
+    s.integrator.run(1)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, pos0=pos, v0=vel, force=force, L=np.array(L),
+                   dt=np.array(0.05), gamma=np.array(40.0), node_grid=np.array(s.cell_system.node_grid))
+
+
 def scene_shardlow_dimers():
     s, pos0 = shardlow_dimers()
     s.integrator.run(15)

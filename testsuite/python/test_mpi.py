@@ -227,6 +227,72 @@ def test_shardlow_dimers_1_vs_2_vs_3_ranks():
         assert_same_trajectory(runs[1], runs[n], tol=1e-12)
 
 
+def _shardlow_cluster_orders(r):
+    """The velocities of each cluster a1 - p - a2 after one step, for the two
+    sequential orders of its pairs (a1, p) and (p, a2), and for both at once
+    (the simultaneous update a schedule without rounds would give): unit masses,
+    kT = 0, the external force's two half kicks, then the exact pair updates
+    u' = a u along e at the drifted positions (integrators/shardlow.cpp)."""
+    L, dt, gamma = float(r["L"]), float(r["dt"]), float(r["gamma"])
+    x0, v0, F = r["pos0"], r["v0"], r["force"]
+    v = v0 + dt * F  # (the two half kicks of a constant force)
+    x = x0 + dt * (v0 + 0.5 * dt * F)
+
+    def delta(xi, xj, vi, vj):
+        d = xi - xj
+        d -= L * np.round(d / L)
+        rr = np.linalg.norm(d)
+        assert rr < 1.0
+        e = d / rr
+        mu = 0.5
+        a = np.exp(-gamma * (1.0 - rr) ** 2 * dt / mu)
+        return mu * (a - 1.0) * np.dot(e, vi - vj) * e
+
+    out = []
+    for c in range(len(x) // 3):
+        k1, kp, k2 = 3 * c, 3 * c + 1, 3 * c + 2
+        orders = {}
+        for name, seq in (("a1 first", ((k1, kp), (kp, k2))), ("a2 first", ((kp, k2), (k1, kp)))):
+            w = v.copy()
+            for i, j in seq:
+                dp = delta(x[i], x[j], w[i], w[j])
+                w[i] += dp
+                w[j] -= dp
+            orders[name] = w[[k1, kp, k2]]
+        w = v.copy()
+        d1, d2 = delta(x[k1], x[kp], v[k1], v[kp]), delta(x[kp], x[k2], v[kp], v[k2])
+        w[k1] += d1
+        w[kp] += -d1 + d2
+        w[k2] -= d2
+        orders["simultaneous"] = w[[k1, kp, k2]]
+        out.append(orders)
+    return out
+
+
+@needs("DPD", "EXTERNAL_FORCE")
+@pytest.mark.parametrize("ranks", [1, 2, 3, 4])
+def test_shardlow_clusters_follow_a_sequential_order(ranks):
+    """Clusters of two pairs sharing a particle across the domain faces (and
+    one whose pairs see the shared particle through two periodic images):
+    each cluster's velocities after a step must be those of one of the two
+    sequential orders of its pairs, to round-off. The orders differ from each
+    other and from the simultaneous update by far more than the tolerance, so
+    a schedule that let two ranks (or two ghost copies) update the shared
+    particle at once, or swept with stale ghost velocities, fails."""
+    r = run("shardlow_clusters", ranks)
+    assert int(np.prod(r["node_grid"])) == ranks
+    order = np.argsort(r["ids"])
+    v = r["v"][order]
+    for c, orders in enumerate(_shardlow_cluster_orders(r)):
+        got = v[3 * c:3 * c + 3]
+        names = list(orders)
+        for a in range(3):
+            for b in range(a + 1, 3):
+                assert np.abs(orders[names[a]] - orders[names[b]]).max() > 1e-3, (c, names[a], names[b])
+        err = {k: np.abs(got - w).max() for k, w in orders.items()}
+        assert min(err["a1 first"], err["a2 first"]) < 1e-12, (ranks, c, err)
+
+
 @needs("DPD")
 def test_shardlow_temperature_and_momentum_1_2_3_ranks():
     """The ideal DPD fluid under Shardlow at dt = 0.04 (kT exact for any dt) on

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <cstdint>
 #include <cstring>
+#include <unordered_map>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -341,6 +342,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   int const size = m_comm ? m_comm->size() : 1, me = m_comm ? m_comm->rank() : 0;
   m_send.assign(static_cast<std::size_t>(size), {});
   m_send_index.assign(static_cast<std::size_t>(size), {});
+  m_ghost_rep_valid = false;
   m_recv_begin.assign(static_cast<std::size_t>(size), ps.n_local());
   m_recv_count.assign(static_cast<std::size_t>(size), 0);
   m_rep_send.assign(static_cast<std::size_t>(size), {}); // (every return below leaves them valid)
@@ -1419,6 +1421,21 @@ void CellSystem::reduce_ghost_forces(ParticleStore &ps) const {
         ps.torque[i] += gf.torque;
 #endif
       });
+}
+
+std::vector<int> const &CellSystem::ghost_representatives(ParticleStore const &ps) const {
+  if (m_ghost_rep_valid && m_ghost_rep.size() == static_cast<std::size_t>(ps.n_ghost()))
+    return m_ghost_rep;
+  int const nl = ps.n_local(), ng = ps.n_ghost();
+  m_ghost_rep.resize(static_cast<std::size_t>(ng));
+  std::unordered_map<int, int> first; // particle id -> its first slot among the remote ghosts
+  first.reserve(static_cast<std::size_t>(ng));
+  for (int g = 0; g < ng; ++g) {
+    int const o = ps.ghost_owner[g];
+    m_ghost_rep[g] = o >= 0 ? o : first.emplace(ps.id[nl + g], nl + g).first->second;
+  }
+  m_ghost_rep_valid = true;
+  return m_ghost_rep;
 }
 
 void CellSystem::fill_ghost_values(ParticleStore const &ps, std::vector<Vector3d> &x) const {

@@ -143,6 +143,12 @@ public:
       for (int i : q)
         flag[static_cast<std::size_t>(i)] = 1;
   }
+  /** For each ghost (index g - n_local) the slot that stands for its
+   * particle: a periodic image of a local its owner; another rank's particle
+   * the first of its ghost slots (a particle can arrive as several periodic
+   * images, along an axis the node grid does not split or as a large-range
+   * type). Built on first use after each build. Not collective. */
+  std::vector<int> const &ghost_representatives(ParticleStore const &ps) const;
   /** update_ghosts for the other ranks' copies of the replicated (colloid)
    * types only: positions, velocities and omega; the other ghosts keep their
    * values (the RESPA substeps, whose colloid pairs read locals and these
@@ -339,6 +345,8 @@ private:
   // (rows only; extra as in m_pairs) and whether they are still those positions
   VerletPairs m_inner;
   mutable bool m_inner_fresh = false;
+  mutable std::vector<int> m_ghost_rep; // ghost_representatives(): its cache
+  mutable bool m_ghost_rep_valid = false;
   double m_inner_cut = 0.; // the rebuild's max_cut
   bool m_inner_wanted = false;
   Grid m_grid;

@@ -329,8 +329,10 @@ int System::run_md(int n_steps) {
   if (!m_forces_valid || n_steps == 0)
     compute_forces_checked(true);
 #ifdef DPD
-  if (shardlow_sweep_active() && n_steps > 0)
-    check_shardlow_decomposition(*this); // (several ranks: the domain width the sweep needs)
+  if (shardlow_sweep_active() && n_steps > 0 && m_comm.parallel()) {
+    ensure_lists(); // (the ranges of this run's lists, not of the last build)
+    check_shardlow_decomposition(*this); // the domain width the sweep needs
+  }
 #endif
   [[maybe_unused]] std::vector<Vector3d> dv;
   // Plain velocity Verlet: a step's closing half kick is done by the next

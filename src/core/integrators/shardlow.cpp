@@ -27,8 +27,10 @@
 // periodic axis needs it, so neighbouring domains differ), one colour at a
 // time; after each round the ghosts' velocity changes go to their owners and
 // every ghost gets its owner's velocity. Domains at least twice the pair range
-// wide keep two ranks of one colour from reaching the same particle, so every
-// pair update still sees the velocities the previous ones left (sequential
+// wide keep two ranks of one colour from reaching the same particle, and the
+// copies of another rank's particle that came as several periodic images all
+// read and write one slot (CellSystem::ghost_representatives), so every pair
+// update still sees the velocities the previous ones left (sequential
 // semantics; the order, and so the trajectory, depends on the decomposition).
 //
 // DPD-VV (Besold, Vattulainen, Karttunen, Polson 2000): velocity Verlet whose
@@ -66,14 +68,15 @@ using Utils::Vector3d;
 namespace {
 
 /** The slot whose velocity list entry @p k reads and writes: a local itself,
- * a periodic image its owner, another rank's particle its own ghost slot
- * (several ranks: the sweep's rounds send the change to the owner). */
-[[maybe_unused]] int owner(ParticleStore const &ps, int k) {
+ * a periodic image its owner, another rank's particle the one ghost slot that
+ * stands for all its copies (@p rep: CellSystem::ghost_representatives; the
+ * sweep's rounds send that slot's change to the owner). */
+[[maybe_unused]] int owner(ParticleStore const &ps, int k, int const *rep = nullptr) {
   int const nl = ps.n_local();
   if (k < nl)
     return k;
   int const o = ps.ghost_owner[k - nl];
-  return o >= 0 ? o : k;
+  return o >= 0 ? o : (rep ? rep[k - nl] : k);
 }
 
 #ifdef DPD
@@ -247,8 +250,10 @@ void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &p
         b.size = n;
         sweep(static_cast<PairBlock const &>(b));
       }
+      // (periodic images were booked on their owners, another rank's particle on its representative slot)
+      auto const &rep = cells.ghost_representatives(ps);
       for (int k = nl; k < ps.size(); ++k)
-        if (ps.ghost_owner[k - nl] < 0) // (periodic images were booked on their owners)
+        if (rep[k - nl] == k)
           dv[k] = ps.v[k] - v0[k - nl];
     }
     cells.reduce_ghost_values(ps, dv);
@@ -319,6 +324,8 @@ void shardlow_sweep(System &sys) {
   // deferred to the rounds below.
   bool const par = sys.comm().parallel();
   int const nl = ps.n_local();
+  // (several ranks: one slot for each other rank's particle, however many images of it came)
+  int const *const rep = par ? sys.cells().ghost_representatives(ps).data() : nullptr;
   std::vector<char> boundary;
   std::vector<std::array<int, 2>> deferred;
   if (par) {
@@ -369,7 +376,7 @@ void shardlow_sweep(System &sys) {
 #endif
           if (acts) {
             f |= SweepBlock::dpd;
-            int const oi = owner(ps, i), oj = owner(ps, j);
+            int const oi = owner(ps, i, rep), oj = owner(ps, j, rep);
             double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
             pm.set(mi, mj, kT);
             double const mu = pm.mu, mfac = pm.mfac;
@@ -535,7 +542,7 @@ void shardlow_sweep(System &sys) {
         if (any_sf) {
           SurfaceFriction::Params const &sp = pair.get<SurfaceFriction>();
           if (sp.active)
-            surface_friction_pair_update(ps, sp, i, j, owner(ps, i), owner(ps, j), kT, dt, noise,
+            surface_friction_pair_update(ps, sp, i, j, owner(ps, i, rep), owner(ps, j, rep), kT, dt, noise,
                                          surface_friction_scale(sp, sf_shells, i, j), jump ? &vjump : nullptr);
         }
 #endif
@@ -551,7 +558,7 @@ void shardlow_sweep(System &sys) {
           double const h = r - lp.offset;
           if (h >= lp.h_cut)
             continue;
-          int const oi = owner(ps, i), oj = owner(ps, j);
+          int const oi = owner(ps, i, rep), oj = owner(ps, j, rep);
           double const mi = ps.get_mass(oi), mj = ps.get_mass(oj);
           double const mu = mi * mj / (mi + mj);
           Vector3d const e = d / r;
