@@ -151,6 +151,29 @@ def build_ref(ref, where):
     return os.path.join(bld, "pymarble")
 
 
+def current_and_baseline(baseline, baseline_build):
+    """(launcher of this process's build, launcher of the baseline, temporary
+    directory or None): the baseline is @p baseline_build if given, else the git
+    ref @p baseline built in a new temporary directory (remove it with
+    remove_ref)."""
+    import marble
+    current = os.path.normpath(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(marble.__file__))),
+                                            os.pardir, os.pardir, "pymarble"))
+    if baseline_build:
+        return current, os.path.join(baseline_build, "pymarble"), None
+    tmp = tempfile.mkdtemp(prefix="marble-baseline-")
+    print(f"building {baseline} in {tmp} ...", flush=True)
+    return current, build_ref(baseline, tmp), tmp
+
+
+def remove_ref(tmp):
+    """Remove the worktree and build of current_and_baseline's temporary directory."""
+    if tmp:
+        subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", os.path.join(tmp, "src")],
+                       capture_output=True)
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def start_case(launcher, case, steps, cpu=None, sample_time=2500.0):
     """A fresh process of @p launcher (a build's pymarble) running @p case,
     pinned to core @p cpu if given (fig4_run: the build's own sample for
@@ -218,16 +241,7 @@ def main(argv=None):
         return worker(args.worker, args.steps)
     if not args.sample_time > 0:
         raise SystemExit(f"--sample-time must be > 0 tau, got {args.sample_time}")
-    current = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
-        __import__("marble").__file__))), os.pardir, os.pardir, "pymarble")
-    current = os.path.normpath(current)
-    tmp = None
-    if args.baseline_build:
-        base = os.path.join(args.baseline_build, "pymarble")
-    else:
-        tmp = tempfile.mkdtemp(prefix="marble-baseline-")
-        print(f"building {args.baseline} in {tmp} ...", flush=True)
-        base = build_ref(args.baseline, tmp)
+    current, base, tmp = current_and_baseline(args.baseline, args.baseline_build)
     cases = args.cases.split(",")
     samples = {c: {"current": [], "baseline": []} for c in cases}
     try:
@@ -250,10 +264,7 @@ def main(argv=None):
                 f"{c} {samples[c]['current'][-1]:.3g}/{samples[c]['baseline'][-1]:.3g}" for c in cases),
                 flush=True)
     finally:
-        if tmp:
-            subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", os.path.join(tmp, "src")],
-                           capture_output=True)
-            shutil.rmtree(tmp, ignore_errors=True)
+        remove_ref(tmp)
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
            "side_by_side": bool(args.side_by_side), "cases": {}}
     how = "side-by-side" if args.side_by_side else "interleaved"

@@ -27,8 +27,6 @@ import os
 import shutil
 import statistics
 import subprocess
-import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -70,17 +68,8 @@ def launch(launcher, ranks, substeps, a):
 
 
 def compare(a):
-    from compare_builds import build_ref, median_interval
-    import marble
-    current = os.path.normpath(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(marble.__file__))),
-                                            os.pardir, os.pardir, "pymarble"))
-    tmp = None
-    if a.baseline_build:
-        base = os.path.join(a.baseline_build, "pymarble")
-    else:
-        tmp = tempfile.mkdtemp(prefix="marble-baseline-")
-        print(f"building {a.baseline} in {tmp} ...", flush=True)
-        base = build_ref(a.baseline, tmp)
+    from compare_builds import current_and_baseline, median_interval, remove_ref
+    current, base, tmp = current_and_baseline(a.baseline, a.baseline_build)
     builds = (("baseline", base), ("current", current))
     configs = [(n, r) for n in a.substeps_list for r in a.ranks_list]
     t = {w: {c: [] for c in configs} for w, _ in builds}
@@ -99,10 +88,7 @@ def compare(a):
                     f"n={n} r={r} {t['baseline'][(n, r)][-1]:.1f}/{t['current'][(n, r)][-1]:.1f} ms"
                     for n, r in configs), flush=True)
     finally:
-        if tmp:
-            subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", os.path.join(tmp, "src")],
-                           capture_output=True)
-            shutil.rmtree(tmp, ignore_errors=True)
+        remove_ref(tmp)
     out = dict(baseline=a.baseline, rounds=a.rounds, L=a.L, dt=a.dt, steps=a.steps, configs={})
     print(f"\nms per step, median of {a.rounds} interleaved rounds; ratio = baseline / current "
           "(per round, median and 68 % bootstrap interval)")
