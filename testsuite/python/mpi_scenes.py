@@ -320,14 +320,9 @@ def scene_shardlow_temperature():
     stays what it was."""
     s = fluid(9.0, seed=9, dt=0.04)
     s.integrator.set_shardlow()
-    parts = s.part.all()
-    p0 = parts.v.sum(axis=0)
-    s.integrator.run(100)
-    kT = []
-    for _ in range(60):
-        s.integrator.run(10)
-        kT.append(2.0 / 3.0 * s.analysis.energy()["kinetic"] / len(s.part.all()))
-    return s, dict(kT=np.array(kT), p0=p0, p1=s.part.all().v.sum(axis=0))
+    p0 = s.part.all().v.sum(axis=0)
+    kT = _kT_series(s, 100, 60, 10)
+    return s, dict(kT=kT, p0=p0, p1=s.part.all().v.sum(axis=0))
 
 
 def scene_respa():
@@ -470,15 +465,20 @@ def scene_rank0_read():
     return s, {}
 
 
+def _kT_series(s, warmup, samples, every):
+    """The kinetic temperature every @p every steps, @p samples times, after @p warmup steps."""
+    s.integrator.run(warmup)
+    kT = []
+    for _ in range(samples):
+        s.integrator.run(every)
+        kT.append(2.0 / 3.0 * s.analysis.energy()["kinetic"] / len(s.part.all()))
+    return np.array(kT)
+
+
 def scene_temperature():
     """Longer run: observables agree statistically across rank counts."""
     s = fluid(6.0, seed=9)
-    s.integrator.run(200)
-    kT = []
-    for _ in range(60):
-        s.integrator.run(20)
-        kT.append(2.0 / 3.0 * s.analysis.energy()["kinetic"] / len(s.part.all()))
-    return s, dict(kT=np.array(kT))
+    return s, dict(kT=_kT_series(s, 200, 60, 20))
 
 
 def _wca_gas(L=7.0, seed=6):

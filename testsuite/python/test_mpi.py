@@ -48,6 +48,12 @@ def run(scene, ranks, **extra_env):
             return {k: f[k] for k in f.files}
 
 
+def mean_and_block_error(x, blocks=10):
+    """The mean of the series @p x and its error from @p blocks block means."""
+    b = np.asarray(x).reshape(blocks, -1).mean(axis=1)
+    return float(np.mean(x)), float(b.std(ddof=1) / np.sqrt(blocks))
+
+
 def assert_same_trajectory(a, b, tol=1e-9):
     np.testing.assert_array_equal(a["ids"], b["ids"])
     for key in ("pos", "v", "f"):
@@ -304,9 +310,7 @@ def test_shardlow_temperature_and_momentum_1_2_3_ranks():
     for n in (1, 2, 3):
         r = run("shardlow_temperature", n)
         np.testing.assert_allclose(r["p1"], r["p0"], rtol=0, atol=1e-9, err_msg=f"{n} ranks: momentum")
-        kT = r["kT"]
-        blocks = kT.reshape(10, -1).mean(axis=1)
-        m, e = kT.mean(), blocks.std(ddof=1) / np.sqrt(len(blocks))
+        m, e = mean_and_block_error(r["kT"])
         assert e < 0.006, (n, e)  # so the test can fail
         # (N - 1 degrees of freedom of the relative motion: <2/3 KE / N> = kT (1 - 1/N) + |P|^2 / (3 N M))
         assert abs(m - 1.0) < 4 * e + 0.002, (n, m, e)
@@ -348,12 +352,7 @@ def test_temperature_statistically_equal():
     """Trajectories diverge over 1400 steps (chaos amplifies the round-off),
     but the mean kinetic temperature agrees within the statistical error."""
     one, two = run("temperature", 1), run("temperature", 2)
-    means, errs = [], []
-    for r in (one, two):
-        kT = r["kT"]
-        blocks = kT.reshape(10, -1).mean(axis=1)
-        means.append(kT.mean())
-        errs.append(blocks.std(ddof=1) / np.sqrt(len(blocks)))
+    means, errs = zip(*(mean_and_block_error(r["kT"]) for r in (one, two)))
     assert abs(means[0] - means[1]) < 4 * np.hypot(*errs) + 1e-4
     for m, e in zip(means, errs):
         assert abs(m - 1.0) < 4 * e + 0.02  # VV at dt = 0.01: kT ~ 1.007
