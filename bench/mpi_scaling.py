@@ -6,7 +6,8 @@ Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [
                                           [--bind-to none|core] [--integrator vv|shardlow]
 
 (--integrator shardlow: the same fluid under Shardlow at dt = 0.04, on several
-ranks since session 21. --bind-to: mpiexec's process binding; default none. Session 21 alternated the
+ranks since session 21; shardlow_marble: with the paper's marble colloid (R = 2,
+tunable slip, add_marble) at the box centre, on several ranks since session 22. --bind-to: mpiexec's process binding; default none. Session 21 alternated the
 two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
 Every launch (`mpiexec -n N`) builds the fluid, relaxes it and times
@@ -50,12 +51,18 @@ def worker(L, steps, rounds, out, integrator="vv"):
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
     s = marble.System(box_l=[L, L, L])
-    s.time_step = 0.04 if integrator == "shardlow" else 0.01
+    s.time_step = 0.04 if integrator.startswith("shardlow") else 0.01
     s.cell_system.skin = 0.4
     s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
     s.thermostat.set_dpd(kT=1.0, seed=7)
     s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
-    if integrator == "shardlow":
+    if integrator == "shardlow_marble":
+        # the paper's marble (R = 2, tunable slip, WCA wall) at the centre: on
+        # the face between the two ranks' domains, so both hold coupling pairs
+        from marble.colloids import add_marble
+        add_marble(s, pos=[L / 2] * 3, radius=2.0, gamma=5.0)
+        n = len(s.part.all().id)
+    if integrator.startswith("shardlow"):
         s.integrator.set_shardlow()
     s.integrator.run(30)
     core = s._core
@@ -135,8 +142,9 @@ def main():
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--launches", type=int, default=3, help="launches per rank count")
     p.add_argument("--sizes", type=float, nargs="+", help="run only these box sizes (of 20 40; quick: 10 20)")
-    p.add_argument("--integrator", default="vv", choices=["vv", "shardlow"],
-                   help="velocity Verlet at dt = 0.01 (default) or Shardlow at dt = 0.04")
+    p.add_argument("--integrator", default="vv", choices=["vv", "shardlow", "shardlow_marble"],
+                   help="velocity Verlet at dt = 0.01 (default), Shardlow at dt = 0.04, or Shardlow with "
+                        "the paper's marble (R = 2) at the box centre")
     p.add_argument("--bind-to", default="none", choices=["none", "core"],
                    help="mpiexec's process binding (default none)")
     p.add_argument("--name", help="output file name (default mpi_scaling or mpi_scaling_quick)")

@@ -208,21 +208,19 @@ def scene_dpd_vv():
                    comega=col.omega_lab)
 
 
-def scene_shardlow_narrow():
+def scene_shardlow_narrow(substeps=1):
     """Shardlow on ranks whose domains (2 wide) are narrower than twice the
-    pair range (1.4): refused before any step; one rank runs."""
+    pair range (1.4): refused before any step; one rank runs. @p substeps > 1:
+    through RESPA's run (with a marble colloid, whose substeps then act)."""
     s = fluid(4.0)
-    s.integrator.set_shardlow()
+    if substeps > 1:
+        marble.colloids.add_marble(s, pos=[2.0, 2.0, 2.0], radius=1.0, gamma=5.0, excluded_volume=False)
+    s.integrator.set_shardlow(substeps=substeps)
     return s, dict(msg=np.array(_run_error(s, 1)), step=np.array(s.step))
 
 
-def scene_shardlow_marble():
-    """Shardlow with a marble colloid on several ranks: refused (its coupling's sweep runs on one rank)."""
-    from marble.colloids import add_marble
-    s = fluid(8.0)
-    add_marble(s, pos=[4.0, 4.0, 4.0], radius=1.5, gamma=5.0)
-    s.integrator.set_shardlow()
-    return s, dict(msg=np.array(_run_error(s, 1)), step=np.array(s.step))
+def scene_shardlow_narrow_respa():
+    return scene_shardlow_narrow(substeps=2)
 
 
 def shardlow_dimers(L=12.0, spacing=3.0, seed=8):
@@ -282,6 +280,213 @@ def scene_shardlow_clusters():
     parts = s.part.all()
     return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, pos0=pos, v0=vel, force=force, L=np.array(L),
                    dt=np.array(0.05), gamma=np.array(40.0), node_grid=np.array(s.cell_system.node_grid))
+
+
+def shardlow_stick_clusters(L=12.0):
+    """Clusters b1 - C - b2 of a rotating colloid C (radius 1) and two point
+    beads inside its stick-friction shell (surface_friction, gap < 0.5) on
+    opposite sides, the beads out of each other's reach: across the domain
+    faces x = 4, 6, 8 (the colloid and one bead on one side), and one across
+    the periodic face x = 0 whose beads see C through two periodic images
+    along z, and one at the corner x = y = 6 whose beads lie on two ranks
+    that do not own C (4 ranks). Returns (positions, velocities, external forces, colloid spins,
+    external torques), clusters in rows of three: b1, C, b2."""
+    rng = np.random.default_rng(23)
+    pos = []
+    for f, y in ((4.0, 3.0), (6.0, 6.5), (8.0, 9.5)):
+        c = np.array([f + 0.1, y, 6.0])
+        pos += [c + [-1.2, 0.3, 0.1], c, c + [1.15, -0.2, 0.3]]
+    pos += [[L - 1.0, 6.0, L - 0.5], [0.1, 6.0, 0.1], [L - 1.0, 6.3, 0.8]]
+    # (4 ranks, node grid 2 x 2 x 1: the beads on two ranks, neither the colloid's)
+    pos += [[4.9, 6.35, 10.1], [6.1, 6.1, 10.0], [6.3, 4.9, 9.85]]
+    n = len(pos)
+    vel = rng.normal(size=(n, 3))
+    force = 0.5 * rng.normal(size=(n, 3))
+    omega = rng.normal(size=(n // 3, 3))
+    torque = rng.normal(size=(n // 3, 3))
+    return np.array(pos), vel, force, omega, torque
+
+
+#: the stick clusters' parameters (shardlow_stick_clusters, test_mpi.py)
+STICK_CLUSTER = dict(L=12.0, dt=0.05, gamma=40.0, r_cut=0.5, radius=1.0, mass=5.0, rinertia=2.0)
+
+
+def scene_shardlow_stick_clusters():
+    """One Shardlow step (kT = 0, external forces and torques, so the half
+    kick before the sweep changes velocities and spins) of
+    shardlow_stick_clusters(): the test compares each cluster with the two
+    sequential orders of its stick-friction pair updates, computed in numpy."""
+    p = STICK_CLUSTER
+    pos, vel, force, omega, torque = shardlow_stick_clusters(p["L"])
+    s = marble.System(box_l=[p["L"]] * 3)
+    s.time_step = p["dt"]
+    s.cell_system.skin = 0.4
+    types = np.tile([0, 1, 0], len(pos) // 3)
+    s.part.add(pos=pos, v=vel, ext_force=force, type=types)
+    col = s.part.select(type=1)
+    col.mass = np.full(len(col.id), p["mass"])
+    col.rotation = np.ones((len(col.id), 3), bool)
+    col.rinertia = np.full((len(col.id), 3), p["rinertia"])
+    col.omega_lab = omega
+    col.ext_torque = torque
+    s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=p["gamma"], r_cut=p["r_cut"], a1=p["radius"],
+                                                         a2=0.0)
+    s.thermostat.set_dpd(kT=0.0, seed=3)
+    s.integrator.set_shardlow()
+    s.integrator.run(1)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, omega=parts.omega_lab, pos0=pos, v0=vel,
+                   force=force, omega0=omega, torque=torque, node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_shardlow_marble_clusters(substeps=1, fixed=False):
+    """The clusters of shardlow_stick_clusters() with marble colloids
+    (tunable_slip coupling, radius 1, r_cut 0.5: the beads at gaps 0.2-0.34)
+    instead of the stick friction: one Shardlow step at kT = 0 with external
+    forces and torques. The test compares each cluster with the two sequential
+    orders of its coupling's pair updates, computed in numpy. @p substeps > 1:
+    the step through RESPA's path (no conservative colloid force here, so its
+    substeps drift the positions as one step does, to round-off). @p fixed:
+    every colloid fixed (infinitely heavy: the pair updates no longer depend
+    on their order, so every decomposition must give one rank's result)."""
+    p = STICK_CLUSTER
+    pos, vel, force, omega, torque = shardlow_stick_clusters(p["L"])
+    s = marble.System(box_l=[p["L"]] * 3)
+    s.time_step = p["dt"]
+    s.cell_system.skin = 0.4
+    types = np.tile([0, 1, 0], len(pos) // 3)
+    s.part.add(pos=pos, v=vel, ext_force=force, type=types)
+    col = s.part.select(type=1)
+    col.mass = np.full(len(col.id), p["mass"])
+    col.rotation = np.ones((len(col.id), 3), bool)
+    col.rinertia = np.full((len(col.id), 3), p["rinertia"])
+    col.omega_lab = omega
+    col.ext_torque = torque
+    if fixed:
+        col.fix = np.ones((len(col.id), 3), bool)
+    s.non_bonded_inter[1, 0].marble.set_params(radius=p["radius"], gamma=p["gamma"], r_cut=p["r_cut"],
+                                               weight_function=1, k=1.0, coupling="tunable_slip")
+    s.thermostat.set_dpd(kT=0.0, seed=3)
+    s.integrator.set_shardlow(substeps=substeps)
+    s.integrator.run(1)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, omega=parts.omega_lab, pos0=pos, v0=vel,
+                   force=force, omega0=omega, torque=torque, node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_shardlow_marble_clusters_respa():
+    return scene_shardlow_marble_clusters(substeps=3)
+
+
+def scene_shardlow_marble_clusters_fixed():
+    return scene_shardlow_marble_clusters(fixed=True)
+
+
+def scene_shardlow_stick_shared():
+    """Two groups A - b - B: a bead b in the stick-friction shells of two
+    colloids A, B (radius 1, r_cut 0.5) with shared="split" (gamma/2 for each
+    of b's pairs, the shell count taken over the ranks): across the face
+    x = 6 (A and B on two ranks of a 2 x 1 x 1 grid) and across the periodic
+    face x = 0. One Shardlow step at kT = 0 with external forces and torques;
+    the test compares with the two sequential orders at gamma/2 (numpy).
+    (Scene from session 22's review.)"""
+    p = STICK_CLUSTER
+    L = p["L"]
+    rng = np.random.default_rng(5)
+    pos = np.array([[4.95, 3.0, 6.0], [6.2, 3.1, 6.1], [7.45, 3.0, 6.2],
+                    [0.55, 8.0, 6.0], [L - 0.7, 8.1, 6.0], [L - 1.95, 8.0, 5.9]])
+    n = len(pos)
+    types = np.array([1, 0, 1, 1, 0, 1])
+    vel, force = rng.normal(size=(n, 3)), 0.5 * rng.normal(size=(n, 3))
+    omega, torque = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    s = marble.System(box_l=[L] * 3)
+    s.time_step = p["dt"]
+    s.cell_system.skin = 0.4
+    s.part.add(pos=pos, v=vel, ext_force=force, type=types)
+    col = s.part.select(type=1)
+    k = np.array(col.id)
+    col.mass = np.full(len(k), p["mass"])
+    col.rotation = np.ones((len(k), 3), bool)
+    col.rinertia = np.full((len(k), 3), p["rinertia"])
+    col.omega_lab = omega[k]
+    col.ext_torque = torque[k]
+    s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=p["gamma"], r_cut=p["r_cut"], a1=p["radius"],
+                                                         a2=0.0, shared="split")
+    s.thermostat.set_dpd(kT=0.0, seed=3)
+    s.integrator.set_shardlow()
+    s.integrator.run(1)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, omega=parts.omega_lab, pos0=pos, v0=vel,
+                   force=force, omega0=omega, torque=torque, types=types,
+                   node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_shardlow_marble_temperature():
+    """The ideal DPD fluid (a = 0, L = 10) with 12 marble colloids (radius 1,
+    tunable slip, add_marble without excluded volume: no conservative force
+    anywhere) under Shardlow at dt = 0.02: every update is exact or free
+    flight, so the beads' kT and the colloids' translational and rotational
+    kT are 1; the total momentum m v stays what it was."""
+    from marble.colloids import add_marble
+    s = fluid(10.0, seed=14, dt=0.02)
+    rng = np.random.default_rng(15)
+    # (one mass for all: the neutrally buoyant default would follow the solvent each removal left)
+    cols = [add_marble(s, pos=rng.uniform(0, 10.0, 3), radius=1.0, gamma=5.0, excluded_volume=False, mass=12.0)
+            for _ in range(12)]
+    ids = np.array([c.id for c in cols])
+    M, I = 12.0, cols[0].rinertia[0]
+    s.integrator.set_shardlow()
+
+    def momentum():
+        parts = s.part.all()
+        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
+
+    p0 = momentum()
+    s.integrator.run(100)
+    kT_b, kT_t, kT_r = [], [], []
+    for _ in range(600):
+        s.integrator.run(10)
+        parts = s.part.all()
+        col = np.isin(parts.id, ids)
+        kT_b.append(np.mean(parts.v[~col] ** 2))
+        kT_t.append(M * np.mean(parts.v[col] ** 2))
+        kT_r.append(I * np.mean(parts.omega_lab[col] ** 2))
+    return s, dict(kT_beads=np.array(kT_b), kT_trans=np.array(kT_t), kT_rot=np.array(kT_r), p0=p0,
+                   p1=momentum(), node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_shardlow_stick_temperature():
+    """The ideal DPD fluid (a = 0, L = 9) with 40 rotating colloids (radius 1,
+    mass 10, I = 4, no colloid-colloid forces) coupled to it by the stick
+    friction only, under Shardlow at dt = 0.02: the sweep is exact, so the
+    beads' kT and the colloids' translational and rotational kT are 1; the
+    total momentum m v stays what it was."""
+    s = fluid(9.0, seed=12, dt=0.02)
+    rng = np.random.default_rng(13)
+    n_col = 40
+    cols = s.part.add(pos=rng.uniform(0, 9.0, (n_col, 3)), v=rng.normal(scale=0.3, size=(n_col, 3)),
+                      type=[1] * n_col, mass=[10.0] * n_col, rotation=np.ones((n_col, 3), bool),
+                      rinertia=np.full((n_col, 3), 4.0), omega_lab=rng.normal(scale=0.5, size=(n_col, 3)))
+    s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=20.0, r_cut=0.5, a1=1.0, a2=0.0)
+    s.integrator.set_shardlow()
+
+    def momentum():
+        parts = s.part.all()
+        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
+
+    p0 = momentum()
+    s.integrator.run(100)
+    kT_b, kT_t, kT_r = [], [], []
+    ids = np.array(cols.id)
+    for _ in range(600):
+        s.integrator.run(10)
+        parts = s.part.all()
+        col = np.isin(parts.id, ids)
+        kT_b.append(np.mean(parts.v[~col] ** 2))
+        kT_t.append(10.0 * np.mean(parts.v[col] ** 2))
+        kT_r.append(4.0 * np.mean(parts.omega_lab[col] ** 2))
+    return s, dict(kT_beads=np.array(kT_b), kT_trans=np.array(kT_t), kT_rot=np.array(kT_r), p0=p0,
+                   p1=momentum(), node_grid=np.array(s.cell_system.node_grid))
 
 
 def scene_shardlow_dimers():
@@ -344,6 +549,28 @@ def scene_respa():
                    migrated=np.array(len(owned0 ^ owned1)))
 
 
+def scene_respa_shardlow():
+    """The respa scene under Shardlow (set_shardlow(substeps=3)): the marble
+    coupling in the sweep, rank by rank on N ranks, after the substeps, the
+    mid-step rebuilds and migration. The total momentum m v must stay."""
+    s = fluid(8.0, seed=7)
+    col = marble.colloids.add_marble(s, pos=[3.7, 4.0, 4.0], radius=2.0, gamma=5.0)
+    col.v = [6.0, 1.0, 0.0]
+    s.integrator.set_shardlow(substeps=3)
+
+    def momentum():
+        parts = s.part.all()
+        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
+
+    p0 = momentum()
+    owned0 = set(s.cell_system.local_ids())
+    s.integrator.run(60)
+    owned1 = set(s.cell_system.local_ids())
+    return s, dict(p0=p0, p1=momentum(), cpos=col.pos, node_grid=np.array(s.cell_system.node_grid),
+                   rebuilds=np.array(s.cell_system.get_state()["verlet_rebuilds"]),
+                   migrated=np.array(len(owned0 ^ owned1)))
+
+
 def scene_respa_plain():
     """RESPA substeps with no colloid and no pair interaction (no cell range, so no
     ghosts; the substeps' exchange of colloid copies has nothing to send), with
@@ -377,13 +604,6 @@ def scene_respa_blowup():
     parts.v = np.random.default_rng(8).normal(size=(len(parts), 3))
     s.integrator.run(10)
     return s, dict(msg=np.array(msg), step=np.array(s.step))
-
-
-def scene_respa_shardlow():
-    """RESPA under Shardlow on N ranks: refused (the sweep is sequential)."""
-    s = fluid(4.0)
-    s.integrator.set_shardlow(substeps=2)
-    return s, dict(msg=np.array(_run_error(s, 1)))
 
 
 def _narrow(box, r_cut, steps=30, seed=3):

@@ -405,8 +405,8 @@ int System::run_md(int n_steps) {
 //   F_s(x);  v += dt/2 F_s/m;  [Shardlow: the pair sweep, marble coupling included]
 // with the inner half kicks of consecutive substeps merged. Between steps
 // particle.f holds F_s + F_f (as with substeps = 1); the step takes
-// F_s = f - F_f again. Several MPI ranks: velocity Verlet only (Shardlow's
-// sweep is sequential); between substeps the other ranks' colloid copies get
+// F_s = f - F_f again. Several MPI ranks (velocity Verlet or Shardlow, whose
+// sweep sees every ghost updated by F_s): between substeps the other ranks' colloid copies get
 // the new positions and the fast forces on them go back to their owners (a
 // colloid pair's partner is a local; every ghost is updated at the step's end).
 
@@ -658,6 +658,10 @@ int System::run_md_respa(int n_steps) {
   bool const have_fast = false;
 #endif
   ensure_lists(); // (a rebuild keeps f with its particle)
+#ifdef DPD
+  if (shardlow_sweep_active() && m_comm.parallel())
+    check_shardlow_decomposition(*this); // the domain width the sweep needs
+#endif
   compute_fast_forces();
   for (int s = 0; s < n_steps; ++s) {
     try {

@@ -32,6 +32,10 @@
 // read and write one slot (CellSystem::ghost_representatives), so every pair
 // update still sees the velocities the previous ones left (sequential
 // semantics; the order, and so the trajectory, depends on the decomposition).
+// The stick friction (surface_friction) changes spins too: they go through
+// the rounds with the velocities. The marble coupling's pairs follow rank by
+// rank (marble_sweep_rounds: a colloid spans many domains, so colours would
+// not keep its pairs apart).
 //
 // DPD-VV (Besold, Vattulainen, Karttunen, Polson 2000): velocity Verlet whose
 // forces for the next first half kick carry the DPD friction recomputed from
@@ -220,11 +224,15 @@ int colours_along(int g, bool periodic) {
 
 /** Several ranks: the boundary @p pairs (list entries, in list order) swept
  * in rounds by the colour of the rank's domain, @p sweep(block) doing one
- * block; after each round the ghosts' velocity changes are added to their
- * owners' and every ghost gets its owner's velocity (after the last round
- * only the first: the next step's ghost update refreshes them). Collective. */
+ * block; after each round the ghosts' velocity changes (and, @p spins, their
+ * spin changes: the stick friction's torques) are added to their owners' and
+ * every ghost gets its owner's velocity (after the last round only the
+ * first: the next step's ghost update refreshes them). @p sent: the locals
+ * sent to other ranks as ghosts, the only locals a reduction can change, so
+ * a round costs O(ghosts + sent), not O(particles). Collective. */
 template <class Sweep>
-void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &pairs, Sweep &&sweep) {
+void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &pairs, std::vector<int> const &sent,
+                           bool spins, Sweep &&sweep) {
   auto &ps = sys.particles();
   auto &cells = sys.cells();
   auto const g = cells.node_grid(sys.box());
@@ -236,33 +244,131 @@ void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &p
     n_colours *= k;
   }
   constexpr int kBlock = 248; // (as the select's blocks)
-  int const nl = ps.n_local();
-  std::vector<Vector3d> v0, dv;
+  int const nl = ps.n_local(), n = ps.size();
+  // one round's changes of a quantity q (v or omega) of the ghosts, from q0
+  // before the round; the locals' entries stay zero between rounds
+  struct Changes {
+    std::vector<Vector3d> q0, dq;
+  };
+  std::array<Changes, 2> ch;
+  std::array<std::vector<Vector3d> *, 2> q{&ps.v, nullptr};
+#ifdef ROTATION
+  if (spins)
+    q[1] = &ps.omega;
+#else
+  (void)spins;
+#endif
+  for (int k = 0; k < 2; ++k)
+    if (q[k])
+      ch[k].dq.assign(static_cast<std::size_t>(n), Vector3d{});
   PairBlock b;
   for (int c = 0; c < n_colours; ++c) {
-    dv.assign(static_cast<std::size_t>(ps.size()), Vector3d{});
     if (c == mine) {
-      v0.assign(ps.v.begin() + nl, ps.v.end());
+      for (int k = 0; k < 2; ++k)
+        if (q[k])
+          ch[k].q0.assign(q[k]->begin() + nl, q[k]->end());
       for (std::size_t p0 = 0; p0 < pairs.size(); p0 += kBlock) {
-        int const n = static_cast<int>(std::min<std::size_t>(kBlock, pairs.size() - p0));
-        for (int s = 0; s < n; ++s)
+        int const m = static_cast<int>(std::min<std::size_t>(kBlock, pairs.size() - p0));
+        for (int s = 0; s < m; ++s)
           b.i[s] = pairs[p0 + s][0], b.j[s] = pairs[p0 + s][1];
-        b.size = n;
+        b.size = m;
         sweep(static_cast<PairBlock const &>(b));
       }
       // (periodic images were booked on their owners, another rank's particle on its representative slot)
       auto const &rep = cells.ghost_representatives(ps);
-      for (int k = nl; k < ps.size(); ++k)
-        if (rep[k - nl] == k)
-          dv[k] = ps.v[k] - v0[k - nl];
+      for (int k = 0; k < 2; ++k)
+        if (q[k])
+          for (int g = nl; g < n; ++g)
+            if (rep[g - nl] == g)
+              ch[k].dq[g] = (*q[k])[g] - ch[k].q0[g - nl];
     }
-    cells.reduce_ghost_values(ps, dv);
-    for (int i = 0; i < nl; ++i)
-      ps.v[i] += dv[i];
-    if (c + 1 < n_colours)
-      cells.fill_ghost_values(ps, ps.v);
+    for (int k = 0; k < 2; ++k) {
+      if (!q[k])
+        continue;
+      auto &dq = ch[k].dq;
+      cells.reduce_ghost_values(ps, dq);
+      for (int i : sent) {
+        (*q[k])[i] += dq[i];
+        dq[i] = Vector3d{};
+      }
+      std::fill(dq.begin() + nl, dq.end(), Vector3d{});
+      if (c + 1 < n_colours)
+        cells.fill_ghost_values(ps, *q[k]);
+    }
   }
 }
+
+#ifdef MARBLE
+/** Several ranks: the marble coupling's sweep (Colloids::shardlow_marble_sweep)
+ * rank by rank, in rank order (ranks without a coupling pair skipped). Every
+ * pair's partner is a local of the rank that lists it; its colloid is a local
+ * or that rank's copy of another rank's colloid (one copy per rank, CellSystem:
+ * replicated types). After a rank's turn its copies' changes of velocity and
+ * spin go to the owners (reduce_replicated_ghost_values) and every copy gets
+ * its owner's new state (update_replicated_ghosts), so each pair update sees
+ * the velocities the previous ones left: sequential, as on one rank, in the
+ * order rank 0's pairs, rank 1's, ... A colloid spans many domains, so rounds
+ * by domain colour would not keep two ranks of one colour apart; the marble
+ * pairs are few (a shell) against the solvent's. Collective. */
+void marble_sweep_rounds(System &sys, NoiseContext const &noise, double kT, double dt) {
+  auto &ps = sys.particles();
+  auto const &cells = sys.cells();
+  auto const &col = sys.colloids();
+  auto const &comm = sys.comm();
+  int const nl = ps.n_local(), n = ps.size();
+  cells.update_replicated_ghosts(ps); // the copies at their owners' velocities and spins (after the kick)
+  std::vector<int> local_colloids;
+  bool any_fixed = false;
+  for (int i = 0; i < nl; ++i)
+    if (col.is_colloid_type(ps.type[i])) {
+      local_colloids.push_back(i);
+      any_fixed = any_fixed || ps.has_fixed(i);
+    }
+  // a fixed colloid acts as infinitely heavy: its copies must know (the
+  // fixed flags are the locals' only)
+  std::vector<char> fixed(static_cast<std::size_t>(n), 0);
+  if (comm.any(any_fixed)) {
+    std::vector<Vector3d> x(static_cast<std::size_t>(n));
+    for (int i : local_colloids)
+      x[i][0] = ps.has_fixed(i) ? 1. : 0.;
+    cells.fill_ghost_values(ps, x);
+    for (int k = 0; k < n; ++k)
+      fixed[k] = x[k][0] > 0.5;
+  }
+  std::vector<int> const has_pairs = comm.allgather(col.n_pairs() > 0 ? 1 : 0);
+  int last = -1;
+  for (int r = 0; r < static_cast<int>(has_pairs.size()); ++r)
+    if (has_pairs[r])
+      last = r;
+  auto const &copies = col.pair_copies();
+  std::vector<Vector3d> dv(static_cast<std::size_t>(n)), dw(dv.size()), v0, w0;
+  for (int r = 0; r <= last; ++r) {
+    if (!has_pairs[r])
+      continue;
+    if (r == comm.rank()) {
+      v0.clear(), w0.clear();
+      for (int g : copies)
+        v0.push_back(ps.v[g]), w0.push_back(ps.omega[g]);
+      col.shardlow_marble_sweep(ps, sys.interactions(), noise, kT, dt, &fixed);
+      for (std::size_t k = 0; k < copies.size(); ++k) {
+        dv[copies[k]] = ps.v[copies[k]] - v0[k];
+        dw[copies[k]] = ps.omega[copies[k]] - w0[k];
+      }
+    }
+    cells.reduce_replicated_ghost_values(dv);
+    cells.reduce_replicated_ghost_values(dw);
+    for (int i : local_colloids) {
+      ps.v[i] += dv[i];
+      ps.omega[i] += dw[i];
+      dv[i] = dw[i] = Vector3d{};
+    }
+    for (int g : copies)
+      dv[g] = dw[g] = Vector3d{};
+    if (r < last) // (after the last: the next step's ghost update)
+      cells.update_replicated_ghosts(ps);
+  }
+}
+#endif // MARBLE
 } // namespace
 
 void check_shardlow_decomposition(System &sys) {
@@ -309,9 +415,10 @@ void shardlow_sweep(System &sys) {
   PairMasses pm;
 #ifdef TRANS_DPD
   bool const any_sf = ia.any_active<SurfaceFriction>();
-  // shared shells (one rank: positions fixed during the sweep)
+  // shared shells (positions fixed during the sweep; several ranks: counted
+  // over all ranks, through the ghost exchange)
   std::vector<int> const sf_shells =
-      any_sf ? surface_friction_shells(ps, sys.cells(), ia, false) : std::vector<int>{};
+      any_sf ? surface_friction_shells(ps, sys.cells(), ia, sys.comm().parallel()) : std::vector<int>{};
 #endif
 #ifdef LUBRICATION
   std::array<Vector3d, kPairBlock> xi_lub;
@@ -328,10 +435,24 @@ void shardlow_sweep(System &sys) {
   int const *const rep = par ? sys.cells().ghost_representatives(ps).data() : nullptr;
   std::vector<char> boundary;
   std::vector<std::array<int, 2>> deferred;
+  std::vector<int> sent; // the locals sent as ghosts
+  // the stick friction's torques change spins, which its rounds then carry too
+#if defined(TRANS_DPD) && defined(ROTATION)
+  bool const spins = any_sf;
+#else
+  bool const spins = false;
+#endif
   if (par) {
     sys.cells().fill_ghost_values(ps, ps.v); // the ghosts at their owners' velocities (after the kick)
+#ifdef ROTATION
+    if (spins)
+      sys.cells().fill_ghost_values(ps, ps.omega); // (and spins)
+#endif
     boundary.assign(static_cast<std::size_t>(ps.size()), 0);
     sys.cells().mark_sent_locals(boundary);
+    for (int i = 0; i < nl; ++i)
+      if (boundary[i])
+        sent.push_back(i);
     for (int k = nl; k < ps.size(); ++k) {
       int const o = ps.ghost_owner[k - nl];
       boundary[k] = o >= 0 ? boundary[o] : 1;
@@ -580,7 +701,7 @@ void shardlow_sweep(System &sys) {
   for_each_selected_block(ps, sys.cells().select_pairs(), ia, *soa,
                           [&](PairBlock const &b, PairBlockSoA const &D) { sweep_block(b, D, par); });
   if (par)
-    sweep_boundary_rounds(sys, deferred, [&](PairBlock const &b) {
+    sweep_boundary_rounds(sys, deferred, sent, spins, [&](PairBlock const &b) {
       for (int s = 0; s < b.size; ++s) {
         Vector3d const d = ps.pos[b.i[s]] - ps.pos[b.j[s]];
         soa->dx[s] = d[0], soa->dy[s] = d[1], soa->dz[s] = d[2];
@@ -592,8 +713,12 @@ void shardlow_sweep(System &sys) {
   // list's order: its own exact update (marble/Colloids.cpp), so a large
   // gamma dt does not bias it (the explicit coupling at nu = gamma dt / m = 0.6
   // gave a 3 % larger D, doc/speed-accuracy.md)
-  if (sys.colloids().any())
-    sys.colloids().shardlow_marble_sweep(ps, ia, noise, kT, dt);
+  if (sys.colloids().any()) {
+    if (par)
+      marble_sweep_rounds(sys, noise, kT, dt);
+    else
+      sys.colloids().shardlow_marble_sweep(ps, ia, noise, kT, dt);
+  }
 #endif
 }
 

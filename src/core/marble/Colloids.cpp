@@ -173,7 +173,7 @@ void Colloids::add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseCo
 // any dt. "dpd" keeps the normal part, "transverse" the tangential one,
 // "tunable_slip" both. A fixed colloid acts as infinitely heavy.
 void Colloids::shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
-                                     double kT, double dt) const {
+                                     double kT, double dt, std::vector<char> const *fixed) const {
   for (auto const &pr : m_pairs) {
     int const c = pr.colloid, j = pr.other;
     MarbleParams const &m = ia.get(ps.type[c], ps.type[j]).get<MarbleSurface>();
@@ -192,7 +192,7 @@ void Colloids::shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &
       continue;
     Vector3d const n = d / r;
     Vector3d const rA = m.radius * n;
-    bool const c_fixed = ps.has_fixed(c);
+    bool const c_fixed = fixed ? (*fixed)[static_cast<std::size_t>(c)] != 0 : c < ps.n_local() && ps.has_fixed(c);
     double const inv_m = 1. / ps.get_mass(j);
     double const inv_M = c_fixed ? 0. : 1. / ps.get_mass(c);
     double inv_I = 0.;

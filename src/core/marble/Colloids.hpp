@@ -39,10 +39,14 @@ public:
   void add_forces(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
                   bool with_conservative = true, bool with_marble = true) const;
   /** Shardlow: the exact pair update of the marble coupling's friction and
-   * noise over @p dt, pair by pair in list order (one MPI rank: colloids and
-   * partners are locals). Velocities and spins change; nothing else. */
+   * noise over @p dt, pair by pair in list order. Velocities and spins of the
+   * pairs' particles change (on several ranks also those of the other ranks'
+   * colloid copies: integrators/shardlow.cpp sends the changes to the
+   * owners); nothing else. @p fixed (several ranks): per list index, whether
+   * the colloid has a fixed coordinate (copies included); null: the locals'
+   * own flags (one rank: every pair's colloid is a local). */
   void shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
-                             double kT, double dt) const;
+                             double kT, double dt, std::vector<char> const *fixed = nullptr) const;
   /** RESPA's fast forces: only the conservative pair kernels of the colloid
    * pairs, added to @p f (indexed like ps, at least ps.size() long). */
   void add_conservative_forces(ParticleStore const &ps, InteractionTable const &ia,

@@ -187,24 +187,8 @@ void System::check_scene_before_run() const {
                                 " (RESPA for the colloid pairs' conservative forces): " + why +
                                 "; use substeps=1 (doc/speed-accuracy.md)");
   }
-  if (m_comm.parallel() && m_integrator == IntegratorKind::Shardlow) {
-    // (the domain width is checked when the lists are built: run_md)
-    std::string why;
-    if (m_substeps > 1)
-      why = "its RESPA substeps (set_shardlow(substeps=" + std::to_string(m_substeps) + ")) run on one rank";
-#ifdef MARBLE
-    else if (m_colloids.any())
-      why = "marble colloids (the sweep of their surface coupling) run on one rank";
-#endif
-#ifdef TRANS_DPD
-    else if (m_ia.any_active<SurfaceFriction>())
-      why = "the surface_friction (stick colloid) kernel's sweep runs on one rank";
-#endif
-    if (!why.empty())
-      throw Utils::RuntimeError("cannot integrate with the Shardlow integrator on " +
-                                std::to_string(m_comm.size()) + " MPI ranks: " + why +
-                                "; use integrator.set_vv() or set_dpd_vv(), or run on one rank (doc/parallel.md)");
-  }
+  // (Shardlow on several ranks: the domain width its rounds need is checked
+  // when the lists are built, run_md / run_md_respa)
 }
 
 void System::ensure_lists() {

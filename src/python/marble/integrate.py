@@ -109,16 +109,16 @@ class Integrator:
         pair forces. Raises FeaturesError without DPD.
 
         Several MPI ranks: supported for DPD fluids (any types and kernels,
-        lubrication included); the sweep's pairs that touch another rank's
-        particles go in rounds by domain, so the trajectory depends on the
-        decomposition, the statistics do not (doc/parallel.md). Marble
-        colloids, the ``surface_friction`` kernel, ``substeps`` > 1 and
-        domains narrower than twice the pair range stop ``run`` with a
-        RuntimeError before any step.
+        lubrication and the stick ``surface_friction`` included), marble
+        colloids and RESPA substeps; the sweep's pairs that touch another
+        rank's particles go in rounds by domain (the marble coupling's pairs
+        rank by rank), so the trajectory depends on the decomposition, the
+        statistics do not (doc/parallel.md). Domains narrower than twice the
+        pair range stop ``run`` with a RuntimeError before any step.
 
         ``substeps`` (int in [1, 100], default 1): RESPA substeps for the stiff
         colloid pair forces, as in :meth:`set_vv`; the pair sweep stays at the
-        outer step (one MPI rank). ``set_shardlow(substeps=2)``
+        outer step. ``set_shardlow(substeps=2)``
         lets the R = 3 marble scene run at a larger time_step
         (doc/speed-accuracy.md)."""
         self._core.set_shardlow(substeps)
