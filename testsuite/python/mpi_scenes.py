@@ -311,44 +311,19 @@ def shardlow_stick_clusters(L=12.0):
 STICK_CLUSTER = dict(L=12.0, dt=0.05, gamma=40.0, r_cut=0.5, radius=1.0, mass=5.0, rinertia=2.0)
 
 
-def scene_shardlow_stick_clusters():
+def _shardlow_colloid_clusters(kind, substeps=1, fixed=False):
     """One Shardlow step (kT = 0, external forces and torques, so the half
     kick before the sweep changes velocities and spins) of
-    shardlow_stick_clusters(): the test compares each cluster with the two
-    sequential orders of its stick-friction pair updates, computed in numpy."""
-    p = STICK_CLUSTER
-    pos, vel, force, omega, torque = shardlow_stick_clusters(p["L"])
-    s = marble.System(box_l=[p["L"]] * 3)
-    s.time_step = p["dt"]
-    s.cell_system.skin = 0.4
-    types = np.tile([0, 1, 0], len(pos) // 3)
-    s.part.add(pos=pos, v=vel, ext_force=force, type=types)
-    col = s.part.select(type=1)
-    col.mass = np.full(len(col.id), p["mass"])
-    col.rotation = np.ones((len(col.id), 3), bool)
-    col.rinertia = np.full((len(col.id), 3), p["rinertia"])
-    col.omega_lab = omega
-    col.ext_torque = torque
-    s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=p["gamma"], r_cut=p["r_cut"], a1=p["radius"],
-                                                         a2=0.0)
-    s.thermostat.set_dpd(kT=0.0, seed=3)
-    s.integrator.set_shardlow()
-    s.integrator.run(1)
-    parts = s.part.all()
-    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, omega=parts.omega_lab, pos0=pos, v0=vel,
-                   force=force, omega0=omega, torque=torque, node_grid=np.array(s.cell_system.node_grid))
-
-
-def scene_shardlow_marble_clusters(substeps=1, fixed=False):
-    """The clusters of shardlow_stick_clusters() with marble colloids
-    (tunable_slip coupling, radius 1, r_cut 0.5: the beads at gaps 0.2-0.34)
-    instead of the stick friction: one Shardlow step at kT = 0 with external
-    forces and torques. The test compares each cluster with the two sequential
-    orders of its coupling's pair updates, computed in numpy. @p substeps > 1:
-    the step through RESPA's path (no conservative colloid force here, so its
-    substeps drift the positions as one step does, to round-off). @p fixed:
-    every colloid fixed (infinitely heavy: the pair updates no longer depend
-    on their order, so every decomposition must give one rank's result)."""
+    shardlow_stick_clusters(), their colloids (STICK_CLUSTER's radius, mass,
+    inertia, gamma, r_cut) coupled to the beads by the stick friction
+    (@p kind "stick": surface_friction) or the marble coupling ("marble":
+    tunable slip; the beads at gaps 0.2-0.34 from the surface): the test
+    compares each cluster with the two sequential orders of its pair updates,
+    computed in numpy. @p substeps > 1: the step through RESPA's path (no
+    conservative colloid force here, so its substeps drift the positions as
+    one step does, to round-off). @p fixed: every colloid fixed (infinitely
+    heavy: the pair updates no longer depend on their order, so every
+    decomposition must give one rank's result)."""
     p = STICK_CLUSTER
     pos, vel, force, omega, torque = shardlow_stick_clusters(p["L"])
     s = marble.System(box_l=[p["L"]] * 3)
@@ -364,8 +339,12 @@ def scene_shardlow_marble_clusters(substeps=1, fixed=False):
     col.ext_torque = torque
     if fixed:
         col.fix = np.ones((len(col.id), 3), bool)
-    s.non_bonded_inter[1, 0].marble.set_params(radius=p["radius"], gamma=p["gamma"], r_cut=p["r_cut"],
-                                               weight_function=1, k=1.0, coupling="tunable_slip")
+    if kind == "marble":
+        s.non_bonded_inter[1, 0].marble.set_params(radius=p["radius"], gamma=p["gamma"], r_cut=p["r_cut"],
+                                                   weight_function=1, k=1.0, coupling="tunable_slip")
+    else:
+        s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=p["gamma"], r_cut=p["r_cut"],
+                                                             a1=p["radius"], a2=0.0)
     s.thermostat.set_dpd(kT=0.0, seed=3)
     s.integrator.set_shardlow(substeps=substeps)
     s.integrator.run(1)
@@ -374,12 +353,20 @@ def scene_shardlow_marble_clusters(substeps=1, fixed=False):
                    force=force, omega0=omega, torque=torque, node_grid=np.array(s.cell_system.node_grid))
 
 
+def scene_shardlow_stick_clusters():
+    return _shardlow_colloid_clusters("stick")
+
+
+def scene_shardlow_marble_clusters():
+    return _shardlow_colloid_clusters("marble")
+
+
 def scene_shardlow_marble_clusters_respa():
-    return scene_shardlow_marble_clusters(substeps=3)
+    return _shardlow_colloid_clusters("marble", substeps=3)
 
 
 def scene_shardlow_marble_clusters_fixed():
-    return scene_shardlow_marble_clusters(fixed=True)
+    return _shardlow_colloid_clusters("marble", fixed=True)
 
 
 def scene_shardlow_stick_shared():
@@ -421,6 +408,30 @@ def scene_shardlow_stick_shared():
                    node_grid=np.array(s.cell_system.node_grid))
 
 
+def _momentum(s):
+    """The total momentum sum m v (all ranks' particles)."""
+    parts = s.part.all()
+    return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
+
+
+def _colloid_kT_run(s, ids, M, I):
+    """100 steps, then 600 samples 10 steps apart of the beads' kT and the
+    colloids' (@p ids, mass @p M, inertia @p I) translational and rotational
+    kT; the total momentum before and after."""
+    p0 = _momentum(s)
+    s.integrator.run(100)
+    kT_b, kT_t, kT_r = [], [], []
+    for _ in range(600):
+        s.integrator.run(10)
+        parts = s.part.all()
+        col = np.isin(parts.id, ids)
+        kT_b.append(np.mean(parts.v[~col] ** 2))
+        kT_t.append(M * np.mean(parts.v[col] ** 2))
+        kT_r.append(I * np.mean(parts.omega_lab[col] ** 2))
+    return dict(kT_beads=np.array(kT_b), kT_trans=np.array(kT_t), kT_rot=np.array(kT_r), p0=p0,
+                p1=_momentum(s), node_grid=np.array(s.cell_system.node_grid))
+
+
 def scene_shardlow_marble_temperature():
     """The ideal DPD fluid (a = 0, L = 10) with 12 marble colloids (radius 1,
     tunable slip, add_marble without excluded volume: no conservative force
@@ -433,26 +444,8 @@ def scene_shardlow_marble_temperature():
     # (one mass for all: the neutrally buoyant default would follow the solvent each removal left)
     cols = [add_marble(s, pos=rng.uniform(0, 10.0, 3), radius=1.0, gamma=5.0, excluded_volume=False, mass=12.0)
             for _ in range(12)]
-    ids = np.array([c.id for c in cols])
-    M, I = 12.0, cols[0].rinertia[0]
     s.integrator.set_shardlow()
-
-    def momentum():
-        parts = s.part.all()
-        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
-
-    p0 = momentum()
-    s.integrator.run(100)
-    kT_b, kT_t, kT_r = [], [], []
-    for _ in range(600):
-        s.integrator.run(10)
-        parts = s.part.all()
-        col = np.isin(parts.id, ids)
-        kT_b.append(np.mean(parts.v[~col] ** 2))
-        kT_t.append(M * np.mean(parts.v[col] ** 2))
-        kT_r.append(I * np.mean(parts.omega_lab[col] ** 2))
-    return s, dict(kT_beads=np.array(kT_b), kT_trans=np.array(kT_t), kT_rot=np.array(kT_r), p0=p0,
-                   p1=momentum(), node_grid=np.array(s.cell_system.node_grid))
+    return s, _colloid_kT_run(s, np.array([c.id for c in cols]), 12.0, cols[0].rinertia[0])
 
 
 def scene_shardlow_stick_temperature():
@@ -469,24 +462,7 @@ def scene_shardlow_stick_temperature():
                       rinertia=np.full((n_col, 3), 4.0), omega_lab=rng.normal(scale=0.5, size=(n_col, 3)))
     s.non_bonded_inter[1, 0].surface_friction.set_params(gamma=20.0, r_cut=0.5, a1=1.0, a2=0.0)
     s.integrator.set_shardlow()
-
-    def momentum():
-        parts = s.part.all()
-        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
-
-    p0 = momentum()
-    s.integrator.run(100)
-    kT_b, kT_t, kT_r = [], [], []
-    ids = np.array(cols.id)
-    for _ in range(600):
-        s.integrator.run(10)
-        parts = s.part.all()
-        col = np.isin(parts.id, ids)
-        kT_b.append(np.mean(parts.v[~col] ** 2))
-        kT_t.append(10.0 * np.mean(parts.v[col] ** 2))
-        kT_r.append(4.0 * np.mean(parts.omega_lab[col] ** 2))
-    return s, dict(kT_beads=np.array(kT_b), kT_trans=np.array(kT_t), kT_rot=np.array(kT_r), p0=p0,
-                   p1=momentum(), node_grid=np.array(s.cell_system.node_grid))
+    return s, _colloid_kT_run(s, np.array(cols.id), 10.0, 4.0)
 
 
 def scene_shardlow_dimers():
@@ -508,13 +484,10 @@ def scene_shardlow_suspension():
     info = marble.suspensions.setup_suspension(s, phi=0.2, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
                                                seed=4, h_cut=1.0)
     s.integrator.set_shardlow()
-    parts = s.part.all()
-    m = np.asarray(parts.mass).reshape(-1, 1)
-    p0 = (m * parts.v).sum(axis=0)
+    p0 = _momentum(s)
     s.integrator.run(30)
-    parts = s.part.all()
-    p1 = (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
-    return s, dict(p0=p0, p1=p1, n=np.array(len(parts.id)), n_colloids=np.array(info["n_colloids"]),
+    return s, dict(p0=p0, p1=_momentum(s), n=np.array(len(s.part.all().id)),
+                   n_colloids=np.array(info["n_colloids"]),
                    types=np.array(s.cell_system.get_state()["large_range_types"]),
                    node_grid=np.array(s.cell_system.node_grid))
 
@@ -557,16 +530,11 @@ def scene_respa_shardlow():
     col = marble.colloids.add_marble(s, pos=[3.7, 4.0, 4.0], radius=2.0, gamma=5.0)
     col.v = [6.0, 1.0, 0.0]
     s.integrator.set_shardlow(substeps=3)
-
-    def momentum():
-        parts = s.part.all()
-        return (np.asarray(parts.mass).reshape(-1, 1) * parts.v).sum(axis=0)
-
-    p0 = momentum()
+    p0 = _momentum(s)
     owned0 = set(s.cell_system.local_ids())
     s.integrator.run(60)
     owned1 = set(s.cell_system.local_ids())
-    return s, dict(p0=p0, p1=momentum(), cpos=col.pos, node_grid=np.array(s.cell_system.node_grid),
+    return s, dict(p0=p0, p1=_momentum(s), cpos=col.pos, node_grid=np.array(s.cell_system.node_grid),
                    rebuilds=np.array(s.cell_system.get_state()["verlet_rebuilds"]),
                    migrated=np.array(len(owned0 ^ owned1)))
 

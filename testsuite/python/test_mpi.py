@@ -299,59 +299,78 @@ def test_shardlow_clusters_follow_a_sequential_order(ranks):
         assert min(err["a1 first"], err["a2 first"]) < 1e-12, (ranks, c, err)
 
 
+def _after_kicks_and_drift(r, is_colloid):
+    """Velocities, positions and spins at the sweep of the one-step colloid
+    scenes (mpi_scenes.STICK_CLUSTER's masses, time step; kT = 0): the two
+    half kicks of the constant external forces and torques, and the drift."""
+    from mpi_scenes import STICK_CLUSTER as p
+    dt = p["dt"]
+    x0, v0, F = r["pos0"], r["v0"], r["force"]
+    m = np.where(is_colloid, p["mass"], 1.0)[:, None]
+    return v0 + dt * F / m, x0 + dt * (v0 + 0.5 * dt * F / m), r["omega0"] + dt * r["torque"] / p["rinertia"]
+
+
+def _shell_pair(xc, xb):
+    """d = x_C - x_b (minimum image in STICK_CLUSTER's box), |d| and the shell
+    weight w = 1 - (|d| - R)/r_cut of the colloid C and the bead b (asserted
+    in (0, 1]: the bead inside the shell)."""
+    from mpi_scenes import STICK_CLUSTER as p
+    d = xc - xb
+    d -= p["L"] * np.round(d / p["L"])
+    rr = np.linalg.norm(d)
+    w = 1.0 - (rr - p["radius"]) / p["r_cut"]
+    assert 0.0 < w <= 1.0
+    return d, rr, w
+
+
+def _stick_impulse(xc, xb, vc, vb, wc, scale=1.0):
+    """The stick friction's exact kT = 0 pair update (nonbonded/
+    surface_friction_apply.hpp) of colloid C (STICK_CLUSTER's radius, mass M,
+    inertia I) and point bead b: u_t' = a u_t for u = v_C - v_b - omega_C x d
+    (lever 1), a = exp(-gamma scale w^2 dt / mu_t), 1/mu_t = 1/M + 1 + r^2/I.
+    Returns the impulse J on C (-J on b) and C's spin change -(d x J)/I."""
+    from mpi_scenes import STICK_CLUSTER as p
+    dt, gamma, M, I = p["dt"], p["gamma"], p["mass"], p["rinertia"]
+    d, rr, w = _shell_pair(xc, xb)
+    e = d / rr
+    u = vc - vb - np.cross(wc, d)
+    ut = u - np.dot(e, u) * e
+    inv_mu = 1.0 / M + 1.0 + rr * rr / I
+    J = (np.exp(-gamma * scale * w * w * dt * inv_mu) - 1.0) * ut / inv_mu
+    return J, -np.cross(d, J) / I
+
+
+def _marble_impulse(xc, xb, vc, vb, wc):
+    """The marble coupling's (tunable_slip) exact kT = 0 pair update
+    (marble/Colloids.cpp) with STICK_CLUSTER's parameters: the impulse J on
+    the bead, -J on C at its surface point R n; the normal and tangential
+    parts of u = v_b - (v_C + omega x R n), each its own exact step. Returns
+    the impulse on C and C's spin change, as _stick_impulse."""
+    from mpi_scenes import STICK_CLUSTER as p
+    dt, gamma, R, M, I = p["dt"], p["gamma"], p["radius"], p["mass"], p["rinertia"]
+    d, rr, w = _shell_pair(xc, xb)
+    n = -d / rr  # (from C to b)
+    rA = R * n
+    u = vb - (vc + np.cross(wc, rA))
+    g = gamma * w * w * dt
+    inv_n, inv_t = 1.0 + 1.0 / M, 1.0 + 1.0 / M + R * R / I
+    un = np.dot(n, u)
+    J = (np.exp(-g * inv_n) - 1.0) * un * n / inv_n
+    J = J + (np.exp(-g * inv_t) - 1.0) * (u - un * n) / inv_t
+    return -J, np.cross(rA, -J) / I
+
+
 def _shardlow_stick_cluster_orders(r, kind="stick"):
     """As _shardlow_cluster_orders for the stick clusters b1 - C - b2
-    (mpi_scenes.shardlow_stick_clusters): the exact kT = 0 update of each
-    pair's tangential contact velocity (nonbonded/surface_friction_apply.hpp),
-    u_t' = a u_t with u = v_C - v_b - omega_C x d (lever 1 for a point bead),
-    a = exp(-gamma w^2 dt / mu_t), 1/mu_t = 1/M + 1/m + r^2/I, the impulse
-    J = mu_t (u_t' - u_t) on C (-J on b) and the spin change -(d x J)/I.
-    Returns per cluster the velocities (3 x 3) and C's spin for the two orders
-    and for both pairs at once. @p kind "marble": the marble coupling
-    (tunable_slip) of mpi_scenes.scene_shardlow_marble_clusters instead."""
+    (mpi_scenes.shardlow_stick_clusters): each pair's exact update
+    (_stick_impulse). Returns per cluster the velocities (3 x 3) and C's spin
+    for the two orders and for both pairs at once. @p kind "marble": the
+    marble coupling (_marble_impulse) of
+    mpi_scenes.scene_shardlow_marble_clusters instead."""
     from mpi_scenes import STICK_CLUSTER as p
-    L, dt, gamma, rc, R = p["L"], p["dt"], p["gamma"], p["r_cut"], p["radius"]
-    M, I = p["mass"], p["rinertia"]
-    x0, v0, F = r["pos0"], r["v0"], r["force"]
-    m = np.tile([1.0, M, 1.0], len(x0) // 3)[:, None]
-    v = v0 + dt * F / m  # (the two half kicks of constant forces and torques)
-    x = x0 + dt * (v0 + 0.5 * dt * F / m)
-    om = r["omega0"] + dt * r["torque"] / I
-
-    def stick(xc, xb, vc, vb, wc):
-        d = xc - xb
-        d -= L * np.round(d / L)
-        rr = np.linalg.norm(d)
-        w = 1.0 - (rr - R) / rc
-        assert 0.0 < w <= 1.0
-        e = d / rr
-        u = vc - vb - np.cross(wc, d)
-        ut = u - np.dot(e, u) * e
-        inv_mu = 1.0 / M + 1.0 + rr * rr / I
-        a = np.exp(-gamma * w * w * dt * inv_mu)
-        J = (a - 1.0) * ut / inv_mu
-        return J, -np.cross(d, J) / I
-
-    def marble_coupling(xc, xb, vc, vb, wc):
-        # (marble/Colloids.cpp: the impulse J on the bead, -J on the colloid
-        # at its surface point R n; the normal and tangential parts of
-        # u = v_b - (v_C + omega x R n), each its own exact step)
-        d = xb - xc
-        d -= L * np.round(d / L)
-        rr = np.linalg.norm(d)
-        w = 1.0 - (rr - R) / rc
-        assert 0.0 < w <= 1.0
-        n = d / rr
-        rA = R * n
-        u = vb - (vc + np.cross(wc, rA))
-        g = gamma * w * w * dt
-        inv_n, inv_t = 1.0 + 1.0 / M, 1.0 + 1.0 / M + R * R / I
-        un = np.dot(n, u)
-        J = (np.exp(-g * inv_n) - 1.0) * un * n / inv_n
-        J = J + (np.exp(-g * inv_t) - 1.0) * (u - un * n) / inv_t
-        return -J, np.cross(rA, -J) / I  # (as the impulse on the colloid)
-
-    impulse = marble_coupling if kind == "marble" else stick
+    M = p["mass"]
+    v, x, om = _after_kicks_and_drift(r, np.tile([False, True, False], len(r["pos0"]) // 3))
+    impulse = _marble_impulse if kind == "marble" else _stick_impulse
 
     out = []
     for c in range(len(x) // 3):
@@ -376,54 +395,41 @@ def _shardlow_stick_cluster_orders(r, kind="stick"):
     return out
 
 
-@needs("TRANS_DPD", "ROTATION", "MASS", "EXTERNAL_FORCE")
-@pytest.mark.parametrize("ranks", [1, 2, 3, 4])
-def test_shardlow_stick_clusters_follow_a_sequential_order(ranks):
-    """The stick friction (surface_friction) in the Shardlow sweep on several
-    ranks: clusters of two bead - colloid pairs across the domain faces (and
-    one through two periodic images of the colloid). Each cluster's
-    velocities and the colloid's spin after one step must be those of one of
-    the two sequential orders of its pair updates, to round-off; the orders
-    differ from each other and from the simultaneous update by > 1e-3. A
-    colloid copy's spin change left on the ghost (not sent to its owner), a
-    stale ghost spin, or two copies updated at once fail."""
-    r = run("shardlow_stick_clusters", ranks)
+_STICK = needs("TRANS_DPD", "ROTATION", "MASS", "EXTERNAL_FORCE")
+_MARBLE = needs("MARBLE", "EXTERNAL_FORCE")
+
+
+@pytest.mark.parametrize("kind, ranks, respa", [
+    *(pytest.param("stick", n, False, marks=_STICK) for n in (1, 2, 3, 4)),
+    *(pytest.param("marble", n, False, marks=_MARBLE) for n in (1, 2, 3, 4)),
+    *(pytest.param("marble", n, True, marks=_MARBLE) for n in (2, 4))])
+def test_shardlow_colloid_clusters_follow_a_sequential_order(kind, ranks, respa):
+    """The stick friction (surface_friction, kind "stick": its spins go
+    through the colour rounds) and the marble coupling ("marble": its pairs
+    rank by rank) in the Shardlow sweep on several ranks: clusters of two
+    bead - colloid pairs across the domain faces, one through two periodic
+    images of the colloid, one whose beads lie on two ranks neither of which
+    owns the colloid (4 ranks). Each cluster's velocities and the colloid's
+    spin after one step must be those of one of the two sequential orders of
+    its pair updates, to round-off; the orders differ from each other and
+    from the simultaneous update by > 1e-3. Marble also through RESPA's step
+    (set_shardlow(substeps=3)). Checked to fail: stick without the spins in
+    the rounds (0.25-1.1) or without refreshing the ghosts' spins before the
+    sweep (0.011); marble without the copies' changes sent to the owners
+    (0.3-0.9) or without refreshing the copies between the ranks' turns (the
+    corner cluster on 4 ranks then gives the simultaneous update)."""
+    r = run(f"shardlow_{kind}_clusters" + ("_respa" if respa else ""), ranks)
     assert int(np.prod(r["node_grid"])) == ranks
     order = np.argsort(r["ids"])
     v, om = r["v"][order], r["omega"][order]
-    for c, orders in enumerate(_shardlow_stick_cluster_orders(r)):
+    for c, orders in enumerate(_shardlow_stick_cluster_orders(r, kind)):
         got = np.concatenate([v[3 * c:3 * c + 3], om[3 * c + 1][None]])
         names = list(orders)
         for a in range(3):
             for b in range(a + 1, 3):
                 assert np.abs(orders[names[a]] - orders[names[b]]).max() > 1e-3, (c, names[a], names[b])
         err = {k: np.abs(got - w).max() for k, w in orders.items()}
-        assert min(err["b1 first"], err["b2 first"]) < 1e-12, (ranks, c, err)
-
-
-@needs("MARBLE", "EXTERNAL_FORCE")
-@pytest.mark.parametrize("ranks, respa", [(1, False), (2, False), (3, False), (4, False), (2, True), (4, True)])
-def test_shardlow_marble_clusters_follow_a_sequential_order(ranks, respa):
-    """The marble coupling in the Shardlow sweep on several ranks (rank by
-    rank, integrators/shardlow.cpp): the stick test's clusters with marble
-    colloids. Each cluster's velocities and the colloid's spin after one step
-    must be those of one of the two sequential orders of its pair updates, to
-    round-off; also through RESPA's step (set_shardlow(substeps=3)). Without
-    the copies' changes sent to the owners (checked: errors 0.3-0.9), or
-    without refreshing the copies between the ranks' turns (checked: the
-    corner cluster on 4 ranks gives the simultaneous update), it fails."""
-    r = run("shardlow_marble_clusters" + ("_respa" if respa else ""), ranks)
-    assert int(np.prod(r["node_grid"])) == ranks
-    order = np.argsort(r["ids"])
-    v, om = r["v"][order], r["omega"][order]
-    for c, orders in enumerate(_shardlow_stick_cluster_orders(r, "marble")):
-        got = np.concatenate([v[3 * c:3 * c + 3], om[3 * c + 1][None]])
-        names = list(orders)
-        for a in range(3):
-            for b in range(a + 1, 3):
-                assert np.abs(orders[names[a]] - orders[names[b]]).max() > 1e-3, (c, names[a], names[b])
-        err = {k: np.abs(got - w).max() for k, w in orders.items()}
-        assert min(err["b1 first"], err["b2 first"]) < 1e-12, (ranks, respa, c, err)
+        assert min(err["b1 first"], err["b2 first"]) < 1e-12, (kind, ranks, respa, c, err)
 
 
 @needs("MARBLE", "EXTERNAL_FORCE")
@@ -451,25 +457,11 @@ def _shardlow_stick_shared_orders(r, scale):
     in two shells). Returns per group the velocities of A, b, B and the spins
     of A, B for each order."""
     from mpi_scenes import STICK_CLUSTER as p
-    L, dt, gamma, rc, R, M, I = (p[k] for k in ("L", "dt", "gamma", "r_cut", "radius", "mass", "rinertia"))
-    x0, v0, F, t = r["pos0"], r["v0"], r["force"], r["types"]
-    m = np.where(t == 1, M, 1.0)[:, None]
-    v = v0 + dt * F / m
-    x = x0 + dt * (v0 + 0.5 * dt * F / m)
-    om = r["omega0"] + dt * r["torque"] / I
+    M = p["mass"]
+    v, x, om = _after_kicks_and_drift(r, r["types"] == 1)
 
     def stick(xc, xb, vc, vb, wc):
-        d = xc - xb
-        d -= L * np.round(d / L)
-        rr = np.linalg.norm(d)
-        w = 1.0 - (rr - R) / rc
-        assert 0.0 < w <= 1.0
-        e = d / rr
-        u = vc - vb - np.cross(wc, d)
-        ut = u - np.dot(e, u) * e
-        inv_mu = 1.0 / M + 1.0 + rr * rr / I
-        J = (np.exp(-gamma * scale * w * w * dt * inv_mu) - 1.0) * ut / inv_mu
-        return J, -np.cross(d, J) / I
+        return _stick_impulse(xc, xb, vc, vb, wc, scale)
 
     out = []
     for g in range(len(x) // 3):
