@@ -3,11 +3,12 @@ marble paper's solvent: a = 0, gamma = 5, r_c = 1, kT = 1, dt = 0.01) in
 boxes L = 20 and 40 on 1 and 2 MPI ranks.
 
 Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [--name NAME] [--out DIR]
-                                          [--bind-to none|core] [--integrator vv|shardlow]
+                                          [--bind-to none|core] [--integrator vv|shardlow|shardlow_marble]
 
 (--integrator shardlow: the same fluid under Shardlow at dt = 0.04, on several
 ranks since session 21; shardlow_marble: with the paper's marble colloid (R = 2,
-tunable slip, add_marble) at the box centre, on several ranks since session 22. --bind-to: mpiexec's process binding; default none. Session 21 alternated the
+tunable slip, add_marble) at the box centre, on several ranks since session 22.
+--bind-to: mpiexec's process binding; default none. Session 21 alternated the
 two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
 Every launch (`mpiexec -n N`) builds the fluid, relaxes it and times
@@ -46,12 +47,17 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
+def time_step(integrator):
+    """The bench's dt: Shardlow at 0.04, velocity Verlet at 0.01."""
+    return 0.04 if integrator.startswith("shardlow") else 0.01
+
+
 def worker(L, steps, rounds, out, integrator="vv"):
     import marble
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
     s = marble.System(box_l=[L, L, L])
-    s.time_step = 0.04 if integrator.startswith("shardlow") else 0.01
+    s.time_step = time_step(integrator)
     s.cell_system.skin = 0.4
     s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
     s.thermostat.set_dpd(kT=1.0, seed=7)
@@ -163,7 +169,8 @@ def main():
     machine["load_avg_before"] = machine.pop("load_avg")
     counters0 = cpu_counters()
     res = dict(machine=machine,
-               fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0, dt=0.01, skin=0.4),
+               fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0,
+                          dt=time_step(a.integrator), skin=0.4),
                launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, cases={})
     for L, steps in cases.items():
         samples = {n: [] for n in a.ranks}

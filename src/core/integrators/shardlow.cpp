@@ -325,13 +325,15 @@ void marble_sweep_rounds(System &sys, NoiseContext const &noise, double kT, doub
       any_fixed = any_fixed || ps.has_fixed(i);
     }
   // a fixed colloid acts as infinitely heavy: its copies must know (the
-  // fixed flags are the locals' only)
-  std::vector<char> fixed(static_cast<std::size_t>(n), 0);
+  // fixed flags are the locals' only). Without a fixed colloid on any rank
+  // the sweep's own test (a local's flags; a copy: not fixed) holds.
+  std::vector<char> fixed;
   if (comm.any(any_fixed)) {
     std::vector<Vector3d> x(static_cast<std::size_t>(n));
     for (int i : local_colloids)
       x[i][0] = ps.has_fixed(i) ? 1. : 0.;
     cells.fill_ghost_values(ps, x);
+    fixed.resize(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k)
       fixed[k] = x[k][0] > 0.5;
   }
@@ -349,7 +351,7 @@ void marble_sweep_rounds(System &sys, NoiseContext const &noise, double kT, doub
       v0.clear(), w0.clear();
       for (int g : copies)
         v0.push_back(ps.v[g]), w0.push_back(ps.omega[g]);
-      col.shardlow_marble_sweep(ps, sys.interactions(), noise, kT, dt, &fixed);
+      col.shardlow_marble_sweep(ps, sys.interactions(), noise, kT, dt, fixed.empty() ? nullptr : &fixed);
       for (std::size_t k = 0; k < copies.size(); ++k) {
         dv[copies[k]] = ps.v[copies[k]] - v0[k];
         dw[copies[k]] = ps.omega[copies[k]] - w0[k];

@@ -44,7 +44,8 @@ public:
    * colloid copies: integrators/shardlow.cpp sends the changes to the
    * owners); nothing else. @p fixed (several ranks): per list index, whether
    * the colloid has a fixed coordinate (copies included); null: the locals'
-   * own flags (one rank: every pair's colloid is a local). */
+   * own flags, a copy counting as free (one rank, where every pair's colloid
+   * is a local, or no colloid fixed on any rank). */
   void shardlow_marble_sweep(ParticleStore &ps, InteractionTable const &ia, NoiseContext const &noise,
                              double kT, double dt, std::vector<char> const *fixed = nullptr) const;
   /** RESPA's fast forces: only the conservative pair kernels of the colloid
