@@ -4,10 +4,13 @@ boxes L = 20 and 40 on 1 and 2 MPI ranks.
 
 Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [--name NAME] [--out DIR]
                                           [--bind-to none|core] [--integrator vv|shardlow|shardlow_marble]
+                                          [--shear RATE]
 
 (--integrator shardlow: the same fluid under Shardlow at dt = 0.04, on several
 ranks since session 21; shardlow_marble: with the paper's marble colloid (R = 2,
 tunable slip, add_marble) at the box centre, on several ranks since session 22.
+--shear RATE: Lees-Edwards shear along x across y at that rate (the fluid
+only; several ranks since session 23: the node grid splits z alone).
 --bind-to: mpiexec's process binding; default none. Session 21 alternated the
 two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
@@ -52,7 +55,7 @@ def time_step(integrator):
     return 0.04 if integrator.startswith("shardlow") else 0.01
 
 
-def worker(L, steps, rounds, out, integrator="vv"):
+def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
     import marble
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
@@ -70,6 +73,10 @@ def worker(L, steps, rounds, out, integrator="vv"):
         n = len(s.part.all().id)
     if integrator.startswith("shardlow"):
         s.integrator.set_shardlow()
+    if shear > 0.0:
+        import marble.lees_edwards as le
+        s.lees_edwards.set_boundary_conditions(shear_direction="x", shear_plane_normal="y",
+                                               protocol=le.LinearShear(shear_velocity=shear * L))
     s.integrator.run(30)
     core = s._core
     wall, cpu, comm_cpu, comm_wall = [], [], [], []
@@ -120,14 +127,14 @@ def others_share(c0, c1):
     return others / cap, (c1["steal"] - c0["steal"]) / cap
 
 
-def launch(ranks, L, steps, rounds, bind="none", integrator="vv"):
+def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                    OMPI_MCA_rmaps_base_oversubscribe="1")
         cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", bind, sys.executable,
                os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out,
-               "--integrator", integrator]
+               "--integrator", integrator, "--shear", str(shear)]
         subprocess.run(cmd, env=env, check=True)
         recs = []
         for r in range(ranks):
@@ -151,6 +158,8 @@ def main():
     p.add_argument("--integrator", default="vv", choices=["vv", "shardlow", "shardlow_marble"],
                    help="velocity Verlet at dt = 0.01 (default), Shardlow at dt = 0.04, or Shardlow with "
                         "the paper's marble (R = 2) at the box centre")
+    p.add_argument("--shear", type=float, default=0.0,
+                   help="Lees-Edwards shear rate along x across y (default 0: none)")
     p.add_argument("--bind-to", default="none", choices=["none", "core"],
                    help="mpiexec's process binding (default none)")
     p.add_argument("--name", help="output file name (default mpi_scaling or mpi_scaling_quick)")
@@ -158,7 +167,7 @@ def main():
     p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.worker:
-        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator)
+        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator, a.shear)
         return
     cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
     if a.sizes:
@@ -171,7 +180,7 @@ def main():
     res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0,
                           dt=time_step(a.integrator), skin=0.4),
-               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, cases={})
+               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, shear=a.shear, cases={})
     for L, steps in cases.items():
         samples = {n: [] for n in a.ranks}
         cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
@@ -179,7 +188,7 @@ def main():
         comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
         for k in range(a.launches):
             for n in a.ranks:
-                r = launch(n, L, steps, rounds, a.bind_to, a.integrator)
+                r = launch(n, L, steps, rounds, a.bind_to, a.integrator, a.shear)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]

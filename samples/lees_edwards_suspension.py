@@ -38,6 +38,11 @@ Lighter particles need a smaller dt with --vv (friction rates gamma/M).
 Options left out take setup_suspension's default for the boundary (for "slip"
 the solvent count is "exact", as in this sample before).
 
+Several MPI ranks: `mpiexec -n 2 build/pymarble samples/lees_edwards_suspension.py
+--box 8 8 12 ...` (Lees-Edwards splits the vorticity axis z only; under Shardlow
+each slab must be at least twice the colloids' pair range, 2 x 2.55 for stick
+colloids of R = 1, hence L_z = 12 on 2 ranks; doc/lees-edwards.md).
+
 With MARBLE_SAMPLE_TEST=1 (a smoke test) it uses a 6 x 6 x 6 box and 2 time
 units per scene (the numbers are then noise).
 """
@@ -248,11 +253,15 @@ def main():
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
+        if marble.mpi_rank() != 0:  # (under mpiexec every rank has the same numbers)
+            continue
         print(f"phi = {phi:.3f} ({info.get('n_colloids', 0)} colloids): eta = {eta:.4f} +/- {err:.4f}, "
               f"profile slope {slope:.4f} +/- {slope_err:.4f} (imposed {args.rate}), kT {kt:.4f}")
         if args.json:
             import json
             extra = {} if args.mass_scale == 1.0 else dict(mass_scale=args.mass_scale)
+            if marble.mpi_size() > 1:  # (cpu_s is rank 0's)
+                extra["ranks"] = marble.mpi_size()
             with open(args.json, "a") as f:
                 f.write(json.dumps(dict(**extra, phi=info.get("phi", 0.0), phi_nominal=phi, boundary=args.boundary if phi else "solvent",
                                         n_colloids=info.get("n_colloids", 0), box=list(args.box), rate=args.rate,
@@ -267,8 +276,9 @@ def main():
                                         cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
-    print(f"eta_r({args.phi}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "
-          f"(Batchelor 1 + 2.5 phi + 6.2 phi^2 = {1 + 2.5 * args.phi + 6.2 * args.phi ** 2:.3f})")
+    if marble.mpi_rank() == 0:
+        print(f"eta_r({args.phi}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "
+              f"(Batchelor 1 + 2.5 phi + 6.2 phi^2 = {1 + 2.5 * args.phi + 6.2 * args.phi ** 2:.3f})")
 
 
 if __name__ == "__main__":

@@ -29,9 +29,6 @@ void bind_lees_edwards(py::class_<System> &cls) {
                     std::to_string(shear_plane_normal));
       if (shear_direction == shear_plane_normal)
         value_error("parameters 'shear_direction' and 'shear_plane_normal' must be different axes");
-      if (s.comm().parallel())
-        value_error("Lees-Edwards boundary conditions run on one MPI rank only (this run has " +
-                    std::to_string(s.comm().size()) + ")");
       if (!s.box().periodic(shear_direction) || !s.box().periodic(shear_plane_normal))
         value_error("Lees-Edwards boundary conditions need periodic shear direction and shear-plane normal");
       auto fin = [](char const *name, py::object const &o) {

@@ -503,6 +503,98 @@ def scene_shardlow_temperature():
     return s, dict(kT=kT, p0=p0, p1=s.part.all().v.sum(axis=0))
 
 
+def _sheared(s, direction="x", normal="y", velocity=2.0, offset=1.3):
+    """Lees-Edwards linear shear on @p s: only the third (vorticity) axis is
+    split on several ranks."""
+    import marble.lees_edwards as le
+    s.lees_edwards.set_boundary_conditions(
+        shear_direction=direction, shear_plane_normal=normal,
+        protocol=le.LinearShear(initial_pos_offset=offset, shear_velocity=velocity))
+    return s
+
+
+def _le_state(s):
+    parts = s.part.all()
+    return dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                pressure=np.array(s.analysis.pressure_tensor()["total"]),
+                energy=np.array(s.analysis.energy()["total"]),
+                offset=np.array(s.lees_edwards.pos_offset),
+                node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_lees_edwards(direction="x", normal="y"):
+    """The DPD fluid under Lees-Edwards shear (velocity Verlet, noise): 150
+    steps in which the offset moves by 3 (rebuilds by the offset's drift),
+    particles cross the shear plane and the rank faces."""
+    s = _sheared(fluid(8.0, seed=12), direction, normal)
+    if marble.has_features("TRANS_DPD"):  # (the transverse friction sees the jump too)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0,
+                                                trans_weight_function=1, trans_gamma=2.0, trans_r_cut=1.0)
+    s.integrator.run(150)
+    return s, _le_state(s)
+
+
+def scene_lees_edwards_zx():
+    """The same with shear along z, normal x (the grid splits y)."""
+    return scene_lees_edwards("z", "x")
+
+
+def scene_lees_edwards_stick():
+    """Stick colloids (large-range grid: a full shell of colloid ghosts, the
+    solvent's half shell) under Lees-Edwards shear, 30 VV steps with noise."""
+    s = _suspension_box()
+    info = marble.suspensions.setup_suspension(s, phi=0.25, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
+                                               seed=6, h_cut=1.0, boundary="stick")
+    _sheared(s, velocity=0.5, offset=2.2)
+    s.integrator.set_vv()
+    s.integrator.run(30)
+    col = s.part.by_ids(info["colloid_ids"])
+    return s, dict(_le_state(s), comega=col.omega_lab, ctorque=col.torque_lab)
+
+
+def scene_lees_edwards_shardlow_pairs():
+    """Four isolated pairs straddling the shear plane (kT = 0, DPD friction
+    only, Shardlow): one across the periodic face of the split axis, the others
+    across the faces of 2 or 3 ranks or inside one domain, so a pair's partner
+    is an own image or another rank's particle. Each pair's update is the
+    exact one of its relative velocity across the plane, whatever the order:
+    every rank count gives the same velocities to round-off."""
+    s = marble.System(box_l=[6.0, 6.0, 9.0])
+    s.time_step = 0.01
+    s.cell_system.skin = 0.4
+    for x, z in ((1.0, 3.0), (4.0, 4.5), (1.0, 6.0), (4.0, 0.0)):
+        s.part.add(pos=[[x, 5.8, (z - 0.05) % 9.0], [x - 0.1, 0.1, z + 0.05]], v=[[0.0, 0.0, 0.0]] * 2)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=0.0, seed=1)
+    s.integrator.set_shardlow()
+    _sheared(s, velocity=0.7, offset=0.25)
+    s.integrator.run(5)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, node_grid=np.array(s.cell_system.node_grid))
+
+
+def scene_lees_edwards_shardlow():
+    """The ideal DPD fluid sheared under Shardlow at dt = 0.04 (the sweep adds
+    the shear velocity jump to pairs across the plane, also when the partner is
+    another rank's particle): the kinetic temperature of the velocities
+    relative to the mean flow of their slab along the normal, and the shear
+    stress, every 10 steps."""
+    L, V = 9.0, 1.0
+    s = _sheared(fluid(L, seed=9, dt=0.04), velocity=V)
+    s.integrator.set_shardlow()
+    s.integrator.run(300)
+    kT, sxy = [], []
+    for _ in range(100):
+        s.integrator.run(10)
+        p = s.part.all()
+        y, v = np.asarray(p.pos_folded)[:, 1], np.asarray(p.v)
+        slab = np.minimum((y / L * 9).astype(int), 8)
+        mean = np.array([v[slab == k].mean(axis=0) for k in range(9)])
+        kT.append(np.mean((v - mean[slab]) ** 2))
+        sxy.append(s.analysis.pressure_tensor()["total"][0][1])
+    return s, dict(kT=np.array(kT), sxy=np.array(sxy), node_grid=np.array(s.cell_system.node_grid))
+
+
 def scene_respa():
     """RESPA substeps (integrator.set_vv(substeps=3)) with a fast rotating marble
     crossing the domains: between substeps the ghosts get the new positions and

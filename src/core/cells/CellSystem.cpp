@@ -95,6 +95,16 @@ CellSystem::Grid::Grid(Vector3d const &lo_, Vector3d const &len, double range) {
 std::array<int, 3> CellSystem::node_grid(BoxGeometry const &box) const {
   int const n = m_comm ? m_comm->size() : 1;
   auto const &L = box.length();
+  // Lees-Edwards: only the vorticity axis (neither the shear direction nor
+  // the normal) is split, so every image across the shear plane, whose
+  // position along the shear direction moves with the offset, stays within
+  // the rank's own slab of the two unsplit axes (make_le_ghosts)
+  auto const &le = box.lees_edwards();
+  if (le.active()) {
+    std::array<int, 3> g{1, 1, 1};
+    g[3 - le.shear_plane_normal - le.shear_direction] = n;
+    return g;
+  }
   std::array<int, 3> best{n, 1, 1};
   double best_cost = std::numeric_limits<double>::infinity();
   // the factorisation with the smallest domain surface; ties: split x first
@@ -144,7 +154,7 @@ void CellSystem::update_neighbour_ranks(BoxGeometry const &box, double radius) {
   std::array<double, 8> const key{L[0], L[1], L[2], static_cast<double>(size),
                                   static_cast<double>(me), radius,
                                   static_cast<double>(box.periodic(0) + 2 * box.periodic(1) + 4 * box.periodic(2)),
-                                  0.};
+                                  static_cast<double>(g[0]) * (size + 1) + g[1]}; // (the grid: Lees-Edwards changes it)
   if (key == m_nbr_key && !m_is_nbr.empty())
     return;
   m_nbr_key = key;
@@ -406,7 +416,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       // Colloids (own periodic images included), never through ghosts
       for (int q = 0; q < size; ++q)
         if (q != me)
-          m_send[q].push_back({i, Vector3d{0., 0., 0.}});
+          m_send[q].push_back({i, 0, Vector3d{0., 0., 0.}});
       continue;
     }
     // the shifts whose image passes the cheap reject (farther than the range
@@ -456,11 +466,23 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
                   if (own_image)
                     ps.add_ghost(i, sh);
                 } else if (w || half_shell_sends(me_at, ish, g, {cx, cy, cz})) {
-                  m_send[dest].push_back({i, sh}); // large-range particles: a full shell
+                  m_send[dest].push_back({i, 0, sh}); // large-range particles: a full shell
                 }
               }
         }
   }
+  exchange_ghosts(ps);
+}
+
+// The ghosts of m_send to the other ranks (one message to each neighbour, or
+// the all-rank exchange with colloid copies), appended after the own images;
+// m_send_index, m_recv_begin/count and the replicated subsets for the
+// exchanges between rebuilds. Lees-Edwards images carry their shift k along
+// the normal (m_le_k) and move with their owner's velocity + k shear_velocity.
+void CellSystem::exchange_ghosts(ParticleStore &ps) {
+  int const size = m_comm ? m_comm->size() : 1;
+  [[maybe_unused]] int const me = m_comm ? m_comm->rank() : 0;
+  bool const par = size > 1;
   m_send_index.resize(static_cast<std::size_t>(size));
   for (int q = 0; q < size; ++q) {
     m_send_index[q].resize(m_send[q].size());
@@ -477,7 +499,11 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
     send[q].resize(m_send[q].size() * rec_bytes);
     char *out = send[q].data();
     for (auto const &e : m_send[q]) {
-      GhostRecord const r = ps.ghost_record(e.index, e.shift);
+      GhostRecord r = ps.ghost_record(e.index, e.shift);
+      if (e.le_k != 0) {
+        r.le_k = static_cast<std::int8_t>(e.le_k);
+        r.v[m_le.shear_direction] += e.le_k * m_le.shear_velocity;
+      }
       std::memcpy(out, &r, rec_bytes);
       out += rec_bytes;
     }
@@ -507,6 +533,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
       GhostRecord rec;
       std::memcpy(&rec, in, rec_bytes);
       ps.add_remote_ghost(rec, replicated(rec.type) ? kRemoteColloidGhost : kRemoteGhost);
+      if (m_le_images)
+        m_le_k.push_back(rec.le_k);
     }
   }
   // the replicated types' subset of the exchange (both sides select by type,
@@ -523,29 +551,35 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   }
 }
 
-// Lees-Edwards images (one rank, no marble colloids; System refuses the rest).
+// Lees-Edwards images (no marble colloids; System refuses them).
 // The image of local i with integer shift (m_x, m_y, m_z) lies at
 //   p + sum_d m_d L_d e_d + m_n * offset e_s     (n: normal, s: shear direction),
 // moves with v + m_n * shear_velocity e_s, and is made if it lies within the
-// range of the box on every axis. As for periodic images only the shifts
-// whose integer tuple is lexicographically positive are made: the image of j
-// seen from i and the image of i seen from j have opposite tuples (the offset
-// term is linear in m_n), so each pair is listed once. The tuple along s is
-// chosen at the build with the offset of the build (wrapped into [0, L_s));
-// between builds update_ghosts moves the images by m_n * (offset - offset at
-// build), and the list check counts that drift (le_half_skin_budget).
-// Large-range particles get images of every non-zero shift within their
-// range, as in make_ghosts (build_wide_pairs lists their pairs).
+// range of the box along n and s and of some rank's domain along the third
+// (vorticity) axis t. Several ranks: node_grid splits only t, so an image's
+// place along s, which moves with the offset, never decides its rank.
+// The images go by the half-shell rule of make_ghosts with the integer
+// tuple (m_n, m_s, m_t) in place of the shift (src + m grid - dest
+// lexicographically positive; on one rank: only positive tuples): the image
+// of j seen from i and that of i seen from j have opposite tuples (the offset
+// term is linear in m_n), so each pair is listed once, on one rank. The tuple
+// along s is chosen at the build with the offset of the build (wrapped into
+// [0, L_s)); between builds update_ghosts moves the images by
+// m_n * (offset - offset at build), and the list check counts that drift
+// (le_half_skin_budget). Large-range particles get images of every non-zero
+// tuple within their range and go to every rank in range (a full shell), as in
+// make_ghosts (build_wide_pairs lists their pairs). Each ghost's m_n is kept
+// in m_le_k (the other ranks' images too: GhostRecord::le_k).
 void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   bool const any_wide = !m_wide.empty();
   double const r_wide = std::max(m_range_ll, m_range_ls);
   double const r_max = std::max(m_range, r_wide);
   int const dn = m_le.shear_plane_normal, ds = m_le.shear_direction, dt = 3 - dn - ds;
   auto const &L = box.length();
-  if (parallel() || std::any_of(m_replicated.begin(), m_replicated.end(), [](char c) { return c != 0; }))
+  if (std::any_of(m_replicated.begin(), m_replicated.end(), [](char c) { return c != 0; }))
     throw Utils::RuntimeError(
-        "cannot build the pair lists with Lees-Edwards boundary conditions: they run on one MPI rank "
-        "and without marble colloids (doc/lees-edwards.md)");
+        "cannot build the pair lists with Lees-Edwards boundary conditions: marble colloids are not "
+        "supported (doc/lees-edwards.md)");
   // build_wide_pairs keeps a large-large image pair by the sign of its shift
   // vector, which is the sign of the integer tuple for |m_n| <= 1
   if (any_wide && r_max > L[dn])
@@ -554,23 +588,36 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
         "interaction range " + std::to_string(r_max) + " exceeds the box length along the shear-plane "
         "normal (" + std::to_string(L[dn]) + "): enlarge the box or set "
         "system.cell_system.large_range_types = None");
+  int const me = m_comm ? m_comm->rank() : 0;
+  auto const g = node_grid(box);
+  if (g[dn] != 1 || g[ds] != 1)
+    throw Utils::RuntimeError("internal error: a Lees-Edwards node grid splits the shear plane");
+  auto const me_at = coords_of(g, me);
+  double const dl = L[dt] / g[dt];
   int const n = ps.n_local();
   double const off = box.le_offset_wrapped();
   m_le_offset_at_build = m_le.pos_offset;
   m_le_images = true;
   int const nimg_n = static_cast<int>(std::ceil(r_max / L[dn]));
   int const nimg_t = box.periodic(dt) ? static_cast<int>(std::ceil(r_max / L[dt])) : 0;
+  // the faces along t: the domain's (the box's on one rank)
+  bool const edge_t = box.periodic(dt) || g[dt] > 1;
+  double const lo_t = me_at[dt] * dl, hi_t = me_at[dt] == g[dt] - 1 ? L[dt] : lo_t + dl;
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
     bool const w = any_wide && wide(ps.type[i]);
     double const r = w ? r_wide : m_range;
     // farther than the range (plus a margin) from every face: no image within range
     bool interior = true;
-    for (int d = 0; d < 3 && interior; ++d)
-      if (box.periodic(d)) {
-        double const margin = 1e-9 * (L[d] + r);
+    for (int d = 0; d < 3 && interior; ++d) {
+      double const margin = 1e-9 * (L[d] + r);
+      if (d == dt) {
+        if (edge_t)
+          interior = p[d] >= lo_t + r + margin && p[d] < hi_t - r - margin;
+      } else if (box.periodic(d)) {
         interior = p[d] >= r + margin && p[d] < L[d] - r - margin;
       }
+    }
     if (interior)
       continue;
     auto outside = [&](double q, int d) { return q < -r || q >= L[d] + r; };
@@ -588,31 +635,44 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
             continue;
           std::array<int, 3> t{};
           t[dn] = k, t[ds] = m, t[dt] = l;
-          if (k == 0 && m == 0 && l == 0)
-            continue;
-          // small particles: positive tuples only (half shell); large-range
-          // particles: every shift (their pairs with small ones are listed
-          // from the large side, build_wide_pairs)
-          bool positive = false;
-          for (int d = 0; d < 3; ++d)
-            if (t[d] != 0) {
-              positive = t[d] > 0;
-              break;
-            }
-          if (!w && !positive)
-            continue;
           Vector3d sh{0., 0., 0.};
           sh[dn] = k * L[dn];
           sh[ds] = k * off + m * L[ds];
           sh[dt] = l * L[dt];
-          ps.add_ghost(i, sh);
-          ps.v.back()[ds] += k * m_le.shear_velocity;
-          m_le_k.push_back(k);
+          // the ranks along t whose domain, grown by the range, holds the image
+          double const qt = p[dt] + sh[dt];
+          int c_lo = static_cast<int>(std::floor((qt - r) / dl));
+          int c_hi = static_cast<int>(std::floor((qt + r) / dl));
+          if (!box.periodic(dt)) { // the outer domains extend to infinity
+            c_lo = std::clamp(c_lo, 0, g[dt] - 1);
+            c_hi = std::clamp(c_hi, 0, g[dt] - 1);
+          }
+          c_lo = std::max(c_lo, 0);
+          c_hi = std::min(c_hi, g[dt] - 1);
+          bool const nonzero = k != 0 || m != 0 || l != 0;
+          for (int c = c_lo; c <= c_hi; ++c) {
+            std::array<int, 3> dest_at{0, 0, 0};
+            dest_at[dt] = c;
+            int const dest = rank_of(g, dest_at);
+            // small particles: the half shell (one rank: positive tuples);
+            // large-range particles: every rank and non-zero tuple (their
+            // pairs with small ones are listed from the large side)
+            bool const sends = w ? (dest != me || nonzero) : half_shell_sends(me_at, t, g, dest_at);
+            if (!sends)
+              continue;
+            if (dest == me) {
+              ps.add_ghost(i, sh);
+              ps.v.back()[ds] += k * m_le.shear_velocity;
+              m_le_k.push_back(k);
+            } else {
+              m_send[dest].push_back({i, k, sh});
+            }
+          }
         }
       }
     }
   }
-  m_send_index.assign(1, {});
+  exchange_ghosts(ps);
 }
 
 namespace {
@@ -1334,7 +1394,7 @@ void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {
   m_inner_fresh = false; // the positions are no longer those of the build
-  if (m_le_images) { // Lees-Edwards images (one rank): moved with the offset, velocity jump
+  if (m_le_images) { // Lees-Edwards images: moved with the offset, velocity jump
     int const ds = m_le.shear_direction, nl = ps.n_local();
     double const doff = m_le.pos_offset - m_le_offset_at_build, vs = m_le.shear_velocity;
     for_each_own_image(ps, [&](int g, int o) {
@@ -1349,6 +1409,17 @@ void CellSystem::update_ghosts(ParticleStore &ps) const {
       ps.omega[g] = ps.omega[o];
 #endif
     });
+    if (parallel())
+      to_remote_ghosts<GhostUpdate>(
+          [&](SendEntry const &e) {
+            GhostUpdate u = ghost_update_of(ps, e.index, e.shift);
+            if (e.le_k != 0) {
+              u.pos[ds] += e.le_k * doff;
+              u.v[ds] += e.le_k * vs;
+            }
+            return u;
+          },
+          [&](int g, GhostUpdate const &u) { apply_ghost_update(ps, g, u); });
     return;
   }
   for_each_own_image(ps, [&](int g, int o) {
@@ -1457,7 +1528,7 @@ bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {
   if (m_le_images) { // Lees-Edwards: the images moved with the offset since the build
     double const b = le_half_skin_budget(m_le.pos_offset);
     if (!(b > 0.))
-      return true; // one rank only
+      return true; // (b is the same on every rank: all return here)
     lim2 = b * b;
   }
   bool exceeded = false;

@@ -161,13 +161,14 @@ public:
    * With Lees-Edwards: more than (skin - |offset change since the build|) / 2. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
 
-  // --- Lees-Edwards (box/LeesEdwards.hpp; one rank, no marble colloids) ---
+  // --- Lees-Edwards (box/LeesEdwards.hpp; no marble colloids; several ranks: node_grid splits the vorticity axis only) ---
   /** The current Lees-Edwards state (offset, shear velocity) for the ghost
    * updates; rebuild() takes it from the box. */
   void set_lees_edwards(LeesEdwardsBC const &le) { m_le = le; }
   /** Lees-Edwards: how many box lengths along the shear-plane normal the image
    * at list entry @p k is shifted (its velocity carries k times the shear
-   * velocity); 0 for locals and without Lees-Edwards images. */
+   * velocity); 0 for locals and without Lees-Edwards images. Every ghost,
+   * own image or another rank's particle. */
   int le_crossings(int k, int n_local) const {
     return m_le_images && k >= n_local ? m_le_k[static_cast<std::size_t>(k - n_local)] : 0;
   }
@@ -309,10 +310,12 @@ public:
 private:
   struct SendEntry {
     int index;
+    int le_k; // Lees-Edwards: the image's shift along the normal in box lengths (0 otherwise)
     Utils::Vector3d shift;
   };
   void make_ghosts(ParticleStore &ps, BoxGeometry const &box);
   void make_le_ghosts(ParticleStore &ps, BoxGeometry const &box);
+  void exchange_ghosts(ParticleStore &ps);
   bool other_rank_computes(ParticleStore const &ps, int i, int j, int n_local) const;
   template <typename F> void for_each_own_image(ParticleStore const &ps, F &&fn) const;
   template <typename T, typename NOut, typename NIn, typename Fill, typename Consume>

@@ -85,11 +85,13 @@ namespace {
 
 #ifdef DPD
 
-// Lees-Edwards (one rank): the velocity jump of list entry k. An image across
+// Lees-Edwards: the velocity jump of list entry k. An image across
 // the shear plane (shift k_n L_n along the normal, CellSystem::make_le_ghosts)
 // moves with v_owner + k_n shear_velocity e_s, the velocity it carries in the
-// force loop; the sweep reads the owners' current velocities, so it adds the
-// jump to the relative velocity. Zero for locals and for images that do not
+// force loop; the sweep reads the owners' current velocities (several ranks:
+// another rank's particle from its representative slot, which the rounds fill
+// with the owner's velocity, no jump), so it adds the jump to the relative
+// velocity. Zero for locals and for images that do not
 // cross the shear plane. The velocity change of a pair is the same in either
 // frame, so it goes to the owners unchanged.
 struct LEJump {
@@ -386,6 +388,7 @@ void check_shardlow_decomposition(System &sys) {
           "cannot integrate with the Shardlow integrator on " + std::to_string(sys.comm().size()) +
           " MPI ranks: the domains are " + Utils::to_str(L[d] / g[d]) + " wide along axis " + std::to_string(d) +
           " (node grid " + std::to_string(g[0]) + " x " + std::to_string(g[1]) + " x " + std::to_string(g[2]) +
+          (sys.box().lees_edwards().active() ? "; Lees-Edwards splits the vorticity axis only" : "") +
           "), less than twice the pair range (cutoff + skin = " + Utils::to_str(r) +
           "), which its sweep's rounds need; use fewer ranks, a larger box or a smaller skin, or "
           "integrator.set_vv() / set_dpd_vv() (doc/parallel.md)");

@@ -38,6 +38,9 @@ struct GhostRecord {
   Utils::Vector3d pos{}, v{}, omega{};
   double mass = 1., rinertia = 1.;
   std::uint8_t rotation = 0;
+  /** Lees-Edwards: the image's shift along the shear-plane normal, in box
+   * lengths (CellSystem::make_le_ghosts; |k| <= 16); 0 otherwise. */
+  std::int8_t le_k = 0;
 };
 
 /** Ghost owner markers for copies of other ranks' particles. */

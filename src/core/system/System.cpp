@@ -154,16 +154,16 @@ void System::check_scene_before_run() const {
   if (m_box.lees_edwards().active()) {
     std::string why;
     int const n = m_le_normal, sd = m_le_direction;
-    if (m_comm.parallel())
-      why = "they run on one MPI rank only (this run has " + std::to_string(m_comm.size()) + " ranks)";
 #ifdef SRD
-    else if (srd)
+    if (srd)
       why = "an SRD solvent is not supported (its streaming and cell grid ignore the offset)";
 #endif
 #ifdef MARBLE
-    else if (m_colloids.any())
+    if (why.empty() && m_colloids.any())
       why = "marble colloids are not supported (their neighbour search uses plain periodic images)";
 #endif
+    if (!why.empty())
+      ;
     else if (m_integrator == IntegratorKind::BrownianDynamics)
       why = "Brownian dynamics is not supported; use a velocity Verlet integrator";
     else if (!m_box.periodic(n) || !m_box.periodic(sd))

@@ -101,12 +101,14 @@ def _axis(name, value):
 class LeesEdwards:
     """``system.lees_edwards``: Lees-Edwards boundary conditions of the box.
 
-    Supported: one MPI rank, velocity Verlet, DPD-VV and Shardlow (its sweep
-    adds the shear velocity jump to pairs across the plane) with the DPD (and
-    Langevin) thermostat and every pair kernel of the main pair list; the
-    pressure tensor and energies use the same images. Refused at run time
-    (RuntimeError naming the reason): several MPI ranks, an SRD solvent,
-    marble colloids (and large-range types), Brownian dynamics, a
+    Supported: any number of MPI ranks (the node grid then splits only the
+    vorticity axis, neither the shear direction nor the normal), velocity
+    Verlet, DPD-VV and Shardlow (its sweep adds the shear velocity jump to
+    pairs across the plane) with the DPD (and Langevin) thermostat and every
+    pair kernel of the main pair list, large-range types as long as their range
+    is at most the box along the normal; the pressure tensor and energies use
+    the same images. Refused at run time (RuntimeError naming the reason): an
+    SRD solvent, marble colloids, Brownian dynamics, RESPA substeps, a
     non-periodic shear direction or normal."""
 
     def __init__(self, system):
