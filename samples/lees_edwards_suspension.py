@@ -39,9 +39,10 @@ Options left out take setup_suspension's default for the boundary (for "slip"
 the solvent count is "exact", as in this sample before).
 
 Several MPI ranks: `mpiexec -n 2 build/pymarble samples/lees_edwards_suspension.py
---box 8 8 12 ...` (Lees-Edwards splits the vorticity axis z only; under Shardlow
-each slab must be at least twice the colloids' pair range, 2 x 2.55 for stick
-colloids of R = 1, hence L_z = 12 on 2 ranks; doc/lees-edwards.md).
+--box 8 8 12 --boundary stick ...` (Lees-Edwards splits the vorticity axis z only;
+under Shardlow each slab must be at least twice the colloids' pair range
+2R + h_cut + skin: 2 x 2.55 for stick colloids of R = 1, hence L_z >= 10.2 on 2
+ranks; 2 x 3.4 for the default "slip", L_z >= 13.6; doc/lees-edwards.md).
 
 With MARBLE_SAMPLE_TEST=1 (a smoke test) it uses a 6 x 6 x 6 box and 2 time
 units per scene (the numbers are then noise).

@@ -539,6 +539,23 @@ def scene_lees_edwards_zx():
     return scene_lees_edwards("z", "x")
 
 
+def scene_lees_edwards_switch():
+    """Lees-Edwards switched on after 20 steps and off again 40 steps later:
+    on N ranks the node grid changes both times (N x 1 x 1 -> 1 x 1 x N -> back),
+    and the next list build sends the particles to their new ranks."""
+    s = fluid(8.0, seed=13)
+    s.integrator.run(20)
+    grids = [s.cell_system.node_grid]
+    _sheared(s, velocity=1.5, offset=0.7)
+    s.integrator.run(40)
+    grids.append(s.cell_system.node_grid)
+    s.lees_edwards.set_boundary_conditions(protocol=None)
+    s.integrator.run(20)
+    grids.append(s.cell_system.node_grid)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f, grids=np.array(grids))
+
+
 def scene_lees_edwards_stick():
     """Stick colloids (large-range grid: a full shell of colloid ghosts, the
     solvent's half shell) under Lees-Edwards shear, 30 VV steps with noise."""

@@ -190,6 +190,44 @@ def test_offset_drift_rebuilds_lists():
 
 
 @needs_hat
+def test_range_beyond_the_normal_box_length():
+    """A box thinner along the normal (1.2) than the pair range (2 + skin): the
+    lists hold images shifted by two box lengths along the normal, which move
+    by twice the offset change; the list check must count that (with the
+    single drift the forces were off by up to 0.04 F_max in the steps before a
+    rebuild). Every step's forces equal a numpy sum over all images."""
+    rng = np.random.default_rng(1)
+    L = np.array([6.0, 1.2, 5.0])
+    s = marble.System(box_l=L)
+    s.time_step = 0.01
+    s.cell_system.skin = 0.4
+    n, rc, fm = 50, 2.0, 1e-9  # (F_max tiny: the particles barely move)
+    s.part.add(pos=rng.uniform(0, 1, (n, 3)) * L, v=np.zeros((n, 3)))
+    s.non_bonded_inter[0, 0].hat.set_params(F_max=fm, cutoff=rc)
+    s.lees_edwards.set_boundary_conditions(
+        shear_direction="x", shear_plane_normal="y",
+        protocol=le.LinearShear(initial_pos_offset=0.3, shear_velocity=4.0))
+    worst = 0.0
+    for _ in range(30):
+        s.integrator.run(1)
+        x = np.asarray(s.part.all().pos_folded)
+        off = s.lees_edwards.pos_offset
+        f = np.zeros((n, 3))
+        for k in range(-3, 4):
+            for m in range(-2, 3):
+                for l in range(-1, 2):
+                    d = x[:, None, :] - (x[None, :, :] + [k * off + m * L[0], k * L[1], l * L[2]])
+                    r = np.linalg.norm(d, axis=2)
+                    if k == 0 and m == 0 and l == 0:
+                        np.fill_diagonal(r, np.inf)
+                    with np.errstate(invalid="ignore"):  # (r = inf on the diagonal)
+                        w = np.where(r < rc, fm * (1 - r / rc) / r, 0.0)
+                    f += (w[:, :, None] * d).sum(axis=1)
+        worst = max(worst, float(np.abs(np.asarray(s.part.all().f) - f).max() / fm))
+    assert worst < 1e-9, worst
+
+
+@needs_hat
 @pytest.mark.parametrize("large", ["auto", [1], None])
 def test_two_types_large_range(large):
     """Big particles (type 1, pair ranges 3.0 among them and 2.0 to the small
@@ -393,7 +431,7 @@ def test_bad_input():
     s.integrator.set_brownian_dynamics()
     with pytest.raises(RuntimeError, match="Lees-Edwards.*Brownian"):
         s.integrator.run(1)
-    s.integrator.set_shardlow()  # supported on one rank (test_shardlow_pair_across_plane)
+    s.integrator.set_shardlow()  # supported (test_shardlow_pair_across_plane; several ranks: test_lees_edwards_mpi.py)
     s.integrator.run(1)
     s.integrator.set_vv()
     s.integrator.run(1)

@@ -599,6 +599,7 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   m_le_offset_at_build = m_le.pos_offset;
   m_le_images = true;
   int const nimg_n = static_cast<int>(std::ceil(r_max / L[dn]));
+  m_le_kmax = std::max(1, nimg_n); // (the images' drift between builds: le_drift)
   int const nimg_t = box.periodic(dt) ? static_cast<int>(std::ceil(r_max / L[dt])) : 0;
   // the faces along t: the domain's (the box's on one rank)
   bool const edge_t = box.periodic(dt) || g[dt] > 1;

@@ -172,10 +172,12 @@ public:
   int le_crossings(int k, int n_local) const {
     return m_le_images && k >= n_local ? m_le_k[static_cast<std::size_t>(k - n_local)] : 0;
   }
-  /** |offset - offset at the last build| (0 without Lees-Edwards images):
-   * how far the images across the shear plane moved since the list build. */
+  /** How far the images across the shear plane moved since the list build
+   * (0 without Lees-Edwards images): |offset - offset at the build| times the
+   * largest shift |k| along the normal that the build may make (> 1 when the
+   * range exceeds the box along the normal; the same on every rank). */
   double le_drift(double pos_offset) const {
-    return m_le_images ? std::abs(pos_offset - m_le_offset_at_build) : 0.;
+    return m_le_images ? m_le_kmax * std::abs(pos_offset - m_le_offset_at_build) : 0.;
   }
   /** The displacement limit of the list check: skin/2 less half the image drift (< 0: rebuild). */
   double le_half_skin_budget(double pos_offset) const { return 0.5 * (m_skin - le_drift(pos_offset)); }
@@ -203,7 +205,8 @@ public:
     m_replicated = t;
     m_valid = false;
   }
-  /** Ranks per axis: the most cubic factorisation of the rank count for @p box. */
+  /** Ranks per axis: the factorisation of the rank count with the smallest
+   * domain surface for @p box; with Lees-Edwards only the vorticity axis is split. */
   std::array<int, 3> node_grid(BoxGeometry const &box) const;
   /** Rank of the domain at @p coords of the node grid @p grid. */
   static int rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords);
@@ -376,15 +379,17 @@ private:
   // Migration and the ghost set-up at a rebuild talk to these only.
   std::vector<int> m_nbrs;
   std::vector<char> m_is_nbr;               // by rank
-  std::array<double, 8> m_nbr_key{};        // box, grid size, radius of m_nbrs
+  std::array<double, 8> m_nbr_key{};        // box, rank count and rank, radius, periodicity, node grid of m_nbrs
   std::vector<std::vector<int>> m_send_index; // m_send[q][k].index, contiguous (force returns)
   // neighbour-exchange buffers by rank, kept and only grown (no refill per step)
   mutable std::vector<std::vector<std::max_align_t>> m_xsend, m_xrecv;
   mutable std::vector<Communicator::Block> m_xblocks[2];
-  // Lees-Edwards: current state, the offset at the last build, and for each
-  // own image (ghost g: m_le_k[g - n_local]) its shift k along the normal
+  // Lees-Edwards: current state, the offset at the last build, the largest
+  // |k| a build may make, and for each ghost (own image or another rank's
+  // particle; ghost g: m_le_k[g - n_local]) its shift k along the normal
   LeesEdwardsBC m_le;
   double m_le_offset_at_build = 0.;
+  int m_le_kmax = 1;
   bool m_le_images = false;
   std::vector<int> m_le_k;
 };

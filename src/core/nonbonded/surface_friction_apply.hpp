@@ -171,7 +171,7 @@ inline void surface_friction_virial(ParticleStore const &ps, CellSystem const &c
  * dt/mu_t), and J = mu_t (u_t' - u_t) goes to i (-J to j) with the torques
  * -lam d x J. @p oi, @p oj are the owners (locals) of list entries i, j;
  * @p scale the shared-shell factor of gamma (surface_friction_scale());
- * @p v_jump (Lees-Edwards, one rank) the velocity jump of v_i - v_j across the
+ * @p v_jump (Lees-Edwards) the velocity jump of v_i - v_j across the
  * shear plane (the owners' velocity difference plus it is the entries').
  */
 inline void surface_friction_pair_update(ParticleStore &ps, SurfaceFriction::Params const &p, int i, int j, int oi,

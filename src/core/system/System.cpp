@@ -162,11 +162,9 @@ void System::check_scene_before_run() const {
     if (why.empty() && m_colloids.any())
       why = "marble colloids are not supported (their neighbour search uses plain periodic images)";
 #endif
-    if (!why.empty())
-      ;
-    else if (m_integrator == IntegratorKind::BrownianDynamics)
+    if (why.empty() && m_integrator == IntegratorKind::BrownianDynamics)
       why = "Brownian dynamics is not supported; use a velocity Verlet integrator";
-    else if (!m_box.periodic(n) || !m_box.periodic(sd))
+    if (why.empty() && (!m_box.periodic(n) || !m_box.periodic(sd)))
       why = "the shear direction and the shear-plane normal must be periodic axes";
     if (!why.empty())
       throw Utils::RuntimeError("cannot integrate with Lees-Edwards boundary conditions: " + why +

@@ -135,7 +135,9 @@ class CellSystem:
     def node_grid(self):
         """MPI ranks per axis (px, py, pz): the box is cut into px*py*pz equal
         domains, one per rank, chosen to minimise the domain surface (ties:
-        x first). (1, 1, 1) without mpiexec. Read-only."""
+        x first); with Lees-Edwards boundaries only the vorticity axis is
+        split, e.g. (1, 1, P) for shear along x across y. (1, 1, 1) without
+        mpiexec. Read-only."""
         return tuple(int(n) for n in self._system._core.node_grid())
 
     def local_domain(self):
