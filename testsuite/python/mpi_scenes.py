@@ -80,14 +80,20 @@ def scene_suspension():
                    node_grid=np.array(s.cell_system.node_grid))
 
 
-def _suspension_stick(shared):
-    """Stick colloids (surface_friction with rotation, setup_suspension(boundary=
-    "stick")) with the shared-shell treatment ``shared``: a bead inside the
-    shells of colloids that live on different ranks must count all of them
-    ("split": gamma/n). 30 VV steps with noise, the two-grid split on N ranks."""
+def _stick_suspension(**kw):
+    """Stick colloids at phi = 0.25 (surface_friction with rotation,
+    setup_suspension(boundary="stick")) in the suspension box: (system, info)."""
     s = _suspension_box()
     info = marble.suspensions.setup_suspension(s, phi=0.25, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
-                                               seed=6, h_cut=1.0, boundary="stick", shared=shared)
+                                               seed=6, h_cut=1.0, boundary="stick", **kw)
+    return s, info
+
+
+def _suspension_stick(shared):
+    """Stick colloids with the shared-shell treatment ``shared``: a bead inside
+    the shells of colloids that live on different ranks must count all of them
+    ("split": gamma/n). 30 VV steps with noise, the two-grid split on N ranks."""
+    s, info = _stick_suspension(shared=shared)
     s.integrator.set_vv()
     s.integrator.run(30)
     parts = s.part.all()
@@ -559,9 +565,7 @@ def scene_lees_edwards_switch():
 def scene_lees_edwards_stick():
     """Stick colloids (large-range grid: a full shell of colloid ghosts, the
     solvent's half shell) under Lees-Edwards shear, 30 VV steps with noise."""
-    s = _suspension_box()
-    info = marble.suspensions.setup_suspension(s, phi=0.25, radius=1.0, kT=0.1, gamma=4.5, eta=0.3,
-                                               seed=6, h_cut=1.0, boundary="stick")
+    s, info = _stick_suspension()
     _sheared(s, velocity=0.5, offset=2.2)
     s.integrator.set_vv()
     s.integrator.run(30)

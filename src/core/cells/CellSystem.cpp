@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -136,6 +138,18 @@ std::array<int, 3> coords_of(std::array<int, 3> const &g, int rank) {
 int axis_coord(double x, double dl, int p) {
   double const c = std::floor(x / dl);
   return static_cast<int>(std::clamp(c, 0., static_cast<double>(p - 1)));
+}
+/** The node coordinates [lo, hi] along an axis of @p p domains of width
+ * @p dl whose domain, grown by @p r, holds the coordinate @p x (lo > hi:
+ * none); along an open axis the outer domains extend to infinity. */
+std::pair<int, int> grown_domains(double x, double r, double dl, int p, bool periodic) {
+  int a = static_cast<int>(std::floor((x - r) / dl));
+  int b = static_cast<int>(std::floor((x + r) / dl));
+  if (!periodic) {
+    a = std::clamp(a, 0, p - 1);
+    b = std::clamp(b, 0, p - 1);
+  }
+  return {std::max(a, 0), std::min(b, p - 1)};
 }
 } // namespace
 
@@ -445,14 +459,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           std::array<int, 3> lo{}, hi{};
           bool none = false;
           for (int d = 0; d < 3; ++d) {
-            int a = static_cast<int>(std::floor((q[d] - r) / dl[d]));
-            int b = static_cast<int>(std::floor((q[d] + r) / dl[d]));
-            if (!box.periodic(d)) { // the outer domains extend to infinity
-              a = std::clamp(a, 0, g[d] - 1);
-              b = std::clamp(b, 0, g[d] - 1);
-            }
-            lo[d] = std::max(a, 0);
-            hi[d] = std::min(b, g[d] - 1);
+            std::tie(lo[d], hi[d]) = grown_domains(q[d], r, dl[d], g[d], box.periodic(d));
             none |= lo[d] > hi[d];
           }
           if (none)
@@ -641,15 +648,7 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           sh[ds] = k * off + m * L[ds];
           sh[dt] = l * L[dt];
           // the ranks along t whose domain, grown by the range, holds the image
-          double const qt = p[dt] + sh[dt];
-          int c_lo = static_cast<int>(std::floor((qt - r) / dl));
-          int c_hi = static_cast<int>(std::floor((qt + r) / dl));
-          if (!box.periodic(dt)) { // the outer domains extend to infinity
-            c_lo = std::clamp(c_lo, 0, g[dt] - 1);
-            c_hi = std::clamp(c_hi, 0, g[dt] - 1);
-          }
-          c_lo = std::max(c_lo, 0);
-          c_hi = std::min(c_hi, g[dt] - 1);
+          auto const [c_lo, c_hi] = grown_domains(p[dt] + sh[dt], r, dl, g[dt], box.periodic(dt));
           bool const nonzero = k != 0 || m != 0 || l != 0;
           for (int c = c_lo; c <= c_hi; ++c) {
             std::array<int, 3> dest_at{0, 0, 0};
@@ -1395,9 +1394,10 @@ void CellSystem::from_remote_ghosts(Pack &&pack, Unpack &&unpack) const {
 
 void CellSystem::update_ghosts(ParticleStore &ps) const {
   m_inner_fresh = false; // the positions are no longer those of the build
+  int const ds = m_le.shear_direction;
+  double const doff = m_le.pos_offset - m_le_offset_at_build, vs = m_le.shear_velocity;
   if (m_le_images) { // Lees-Edwards images: moved with the offset, velocity jump
-    int const ds = m_le.shear_direction, nl = ps.n_local();
-    double const doff = m_le.pos_offset - m_le_offset_at_build, vs = m_le.shear_velocity;
+    int const nl = ps.n_local();
     for_each_own_image(ps, [&](int g, int o) {
       int const k = m_le_k[static_cast<std::size_t>(g - nl)];
       ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - nl];
@@ -1410,30 +1410,28 @@ void CellSystem::update_ghosts(ParticleStore &ps) const {
       ps.omega[g] = ps.omega[o];
 #endif
     });
-    if (parallel())
-      to_remote_ghosts<GhostUpdate>(
-          [&](SendEntry const &e) {
-            GhostUpdate u = ghost_update_of(ps, e.index, e.shift);
-            if (e.le_k != 0) {
-              u.pos[ds] += e.le_k * doff;
-              u.v[ds] += e.le_k * vs;
-            }
-            return u;
-          },
-          [&](int g, GhostUpdate const &u) { apply_ghost_update(ps, g, u); });
-    return;
-  }
-  for_each_own_image(ps, [&](int g, int o) {
-    ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - ps.n_local()];
-    ps.v[g] = ps.v[o];
+  } else {
+    for_each_own_image(ps, [&](int g, int o) {
+      ps.pos[g] = ps.pos[o] + ps.ghost_shift[g - ps.n_local()];
+      ps.v[g] = ps.v[o];
 #ifdef ROTATION
-    ps.omega[g] = ps.omega[o];
+      ps.omega[g] = ps.omega[o];
 #endif
-  });
+    });
+  }
   if (!parallel())
     return;
-  to_remote_ghosts<GhostUpdate>([&](SendEntry const &e) { return ghost_update_of(ps, e.index, e.shift); },
-                                [&](int g, GhostUpdate const &u) { apply_ghost_update(ps, g, u); });
+  // (le_k: a Lees-Edwards image's shift along the normal, 0 for every other ghost)
+  to_remote_ghosts<GhostUpdate>(
+      [&](SendEntry const &e) {
+        GhostUpdate u = ghost_update_of(ps, e.index, e.shift);
+        if (e.le_k != 0) {
+          u.pos[ds] += e.le_k * doff;
+          u.v[ds] += e.le_k * vs;
+        }
+        return u;
+      },
+      [&](int g, GhostUpdate const &u) { apply_ghost_update(ps, g, u); });
 }
 
 void CellSystem::update_replicated_ghosts(ParticleStore &ps) const {
