@@ -288,6 +288,66 @@ def scene_shardlow_clusters():
                    dt=np.array(0.05), gamma=np.array(40.0), node_grid=np.array(s.cell_system.node_grid))
 
 
+#: the narrow-domain chains (shardlow_chains, test_mpi.py): domains 2.4
+#: wide along x (skin 0.1: twice the pair range 1.1 fits, three times not)
+CHAIN = dict(slab=2.4, Lyz=4.0, skin=0.1, dt=0.05, gamma=200.0)
+
+
+def shardlow_chains(ranks):
+    """Chains k - i - j - m of three pairs across the domain of rank 1 (x in
+    [2.4, 4.8)) on a node grid ranks x 1 x 1: k in the domain below, i 0.75
+    inside the lower face, j 0.85 inside the upper face, m in the domain
+    above (on 2 ranks, across the periodic face). i lies at the lower face
+    and j at the upper face of the same domain, so the pair (i, j) touches
+    both faces (the sweep's colour rounds after the face rounds,
+    integrators/shardlow.cpp); (k, i) and (j, m) cross the faces. A second
+    chain runs the other way. Returns (positions, velocities, external
+    forces, box), chains in rows of four: k, i, j, m."""
+    p = CHAIN
+    lo, hi = p["slab"], 2 * p["slab"]
+    L = [ranks * p["slab"], p["Lyz"], p["Lyz"]]
+    xs = [lo - 0.05, lo + 0.75, hi - 0.85, hi + 0.05]
+    pos = [[x % L[0], 1.0, 1.0] for x in xs] + [[x % L[0], 3.0, 3.0] for x in xs[::-1]]
+    rng = np.random.default_rng(5)
+    vel = 0.3 * rng.normal(size=(len(pos), 3))
+    force = 0.5 * rng.normal(size=(len(pos), 3))
+    return np.array(pos), vel, force, np.array(L)
+
+
+def _shardlow_chains(wide):
+    """One Shardlow step of shardlow_chains() (kT = 0, a = 0, external forces):
+    the test compares each chain with the six sequential orders of its pairs.
+    @p wide: the particles' type a large-range type (cells/CellSystem.hpp:
+    a full shell of ghosts, so a domain's locals go to the ranks on both
+    sides; with the half shell of small types they go to one side only, and
+    no pair touches both faces)."""
+    p = CHAIN
+    pos, vel, force, L = shardlow_chains(marble.mpi_size())
+    s = marble.System(box_l=list(L))
+    s.time_step = p["dt"]
+    s.cell_system.skin = p["skin"]
+    if wide:  # (a small type for the solvent grid, without particles)
+        s.non_bonded_inter[1, 1].dpd.set_params(weight_function=1, gamma=1.0, k=1.0, r_cut=0.5)
+        s.cell_system.large_range_types = [0]
+    s.part.add(pos=pos, v=vel, ext_force=force)
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=p["gamma"], k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=0.0, seed=3)
+    s.integrator.set_shardlow()
+    s.integrator.run(1)
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, pos0=pos, v0=vel, force=force, L=L,
+                   node_grid=np.array(s.cell_system.node_grid),
+                   types=np.array(s.cell_system.get_state()["large_range_types"]))
+
+
+def scene_shardlow_chains():
+    return _shardlow_chains(wide=False)
+
+
+def scene_shardlow_chains_wide():
+    return _shardlow_chains(wide=True)
+
+
 def shardlow_stick_clusters(L=12.0):
     """Clusters b1 - C - b2 of a rotating colloid C (radius 1) and two point
     beads inside its stick-friction shell (surface_friction, gap < 0.5) on

@@ -299,6 +299,58 @@ def test_shardlow_clusters_follow_a_sequential_order(ranks):
         assert min(err["a1 first"], err["a2 first"]) < 1e-12, (ranks, c, err)
 
 
+@needs("DPD", "EXTERNAL_FORCE")
+@pytest.mark.parametrize("wide", [False, True])
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_shardlow_chains_across_a_narrow_domain_follow_a_sequential_order(ranks, wide):
+    """Domains narrower than three pair ranges (mpi_scenes.CHAIN): a chain
+    k - i - j - m whose middle pair (i, j) touches both faces of one domain,
+    each of i and j in another rank's pair across a face. After one step each
+    chain's velocities must be those of one of the six sequential orders of
+    its three pairs, to round-off; the orders differ from each other by far
+    more. The middle pair touches both faces only with large-range types
+    (wide: their full shell sends a domain's locals to both sides); sweeping
+    it in the lower or in the upper face round, while a neighbour rank sweeps
+    its pair with j or i, gives none of the orders (checked: 0.005 and 0.02)."""
+    import itertools
+    from mpi_scenes import CHAIN
+    r = run("shardlow_chains_wide" if wide else "shardlow_chains", ranks)
+    assert list(r["node_grid"]) == [ranks, 1, 1]
+    assert list(r["types"]) == ([0] if wide else [])
+    L, dt, gamma = r["L"], CHAIN["dt"], CHAIN["gamma"]
+    x0, v0, F = r["pos0"], r["v0"], r["force"]
+    v = v0 + dt * F  # (unit masses: the two half kicks of a constant force)
+    x = x0 + dt * (v0 + 0.5 * dt * F)
+
+    def delta(xi, xj, vi, vj):
+        d = xi - xj
+        d -= L * np.round(d / L)
+        rr = np.linalg.norm(d)
+        assert rr < 1.0
+        e = d / rr
+        a = np.exp(-gamma * (1.0 - rr) ** 2 * dt / 0.5)
+        return 0.5 * (a - 1.0) * np.dot(e, vi - vj) * e
+
+    got = r["v"][np.argsort(r["ids"])]
+    for c in range(len(x) // 4):
+        k = [4 * c + m for m in range(4)]
+        pairs = [(k[0], k[1]), (k[1], k[2]), (k[2], k[3])]
+        orders = []
+        for seq in itertools.permutations(pairs):
+            w = v.copy()
+            for i, j in seq:
+                dp = delta(x[i], x[j], w[i], w[j])
+                w[i] += dp
+                w[j] -= dp
+            orders.append(w[k])
+        # (orders with (k, i) and (j, m) swapped are the same: they share no particle)
+        distinct = [w for n, w in enumerate(orders) if all(np.abs(w - u).max() > 1e-12 for u in orders[:n])]
+        assert len(distinct) == 4
+        assert min(np.abs(a - b).max() for a, b in itertools.combinations(distinct, 2)) > 1e-3
+        err = min(np.abs(got[k] - w).max() for w in orders)
+        assert err < 1e-12, (ranks, c, err)
+
+
 def _after_kicks_and_drift(r, is_colloid):
     """Velocities, positions and spins at the sweep of the one-step colloid
     scenes (mpi_scenes.STICK_CLUSTER's masses, time step; kT = 0): the two

@@ -373,10 +373,13 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   m_rep_recv.assign(static_cast<std::size_t>(size), {});
   m_le_images = false;
   m_le_k.clear();
+  m_boundary_axis = -1;
+  m_boundary_side.clear();
   if (m_range <= 0.)
     return;
   if (m_le.active()) {
     make_le_ghosts(ps, box);
+    mark_boundary_sides(ps, box);
     return;
   }
   bool const par = size > 1;
@@ -436,14 +439,22 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
     // the shifts whose image passes the cheap reject (farther than the range
     // from the box on some axis: no ghost), axis by axis, in the order of
     // the full (sx, sy, sz) loop: the same ghosts in the same order
-    int ax[3][kMaxShiftsPerAxis], n_ax[3];
+    // (and, per axis, the node coordinates [alo, ahi] whose domain, grown by
+    // the range, holds the image's coordinate p + s L; a coordinate no grown
+    // domain holds rules out its shift: along an axis, as the whole shift
+    // did before, so the same ghosts in the same order)
+    int ax[3][kMaxShiftsPerAxis], alo[3][kMaxShiftsPerAxis], ahi[3][kMaxShiftsPerAxis], n_ax[3];
     for (int d = 0; d < 3; ++d) {
       n_ax[d] = 0;
       for (int s = -nimg[d]; s <= nimg[d]; ++s) {
         double const sh = s * L[d];
         if (s != 0 && (p[d] + sh < -r || p[d] + sh >= L[d] + r))
           continue;
-        ax[d][n_ax[d]++] = s;
+        auto const [a, b] = grown_domains(p[d] + sh, r, dl[d], g[d], box.periodic(d));
+        if (a > b)
+          continue;
+        ax[d][n_ax[d]] = s, alo[d][n_ax[d]] = a, ahi[d][n_ax[d]] = b;
+        ++n_ax[d];
       }
     }
     for (int kx = 0; kx < n_ax[0]; ++kx)
@@ -454,16 +465,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           bool const pos_shift = shift_positive(sh);
           if (!par && !w && !pos_shift)
             continue;
-          Vector3d const q = p + sh;
-          // node-grid coordinates whose domain, grown by the range, holds q
-          std::array<int, 3> lo{}, hi{};
-          bool none = false;
-          for (int d = 0; d < 3; ++d) {
-            std::tie(lo[d], hi[d]) = grown_domains(q[d], r, dl[d], g[d], box.periodic(d));
-            none |= lo[d] > hi[d];
-          }
-          if (none)
-            continue;
+          std::array<int, 3> const lo{alo[0][kx], alo[1][ky], alo[2][kz]};
+          std::array<int, 3> const hi{ahi[0][kx], ahi[1][ky], ahi[2][kz]};
           bool const own_image = w ? (sh[0] != 0. || sh[1] != 0. || sh[2] != 0.) : pos_shift;
           for (int cx = lo[0]; cx <= hi[0]; ++cx)
             for (int cy = lo[1]; cy <= hi[1]; ++cy)
@@ -479,6 +482,39 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
         }
   }
   exchange_ghosts(ps);
+  mark_boundary_sides(ps, box);
+}
+
+// boundary_sides(): with the node grid split along one axis a, every
+// particle another rank holds lies within the ghost range of one face of
+// this domain along a at the build: a sent local within the range inside,
+// another rank's particle within the range outside (its image's position).
+// Domains at least twice that range wide (the Shardlow sweep's condition)
+// put it on one side of the middle, so that side names the face.
+void CellSystem::mark_boundary_sides(ParticleStore const &ps, BoxGeometry const &box) {
+  m_boundary_axis = -1;
+  m_boundary_side.clear();
+  if (!parallel())
+    return;
+  auto const g = node_grid(box);
+  int a = -1, n_split = 0;
+  for (int d = 0; d < 3; ++d)
+    if (g[d] > 1)
+      a = d, ++n_split;
+  if (n_split != 1)
+    return;
+  m_boundary_axis = a;
+  double const dl = box.length()[a] / g[a];
+  double const mid = (coords_at(g, m_comm->rank())[a] + 0.5) * dl;
+  int const nl = ps.n_local(), n = ps.size();
+  m_boundary_side.assign(static_cast<std::size_t>(n), 0);
+  auto side = [&](int k) -> char { return replicated(ps.type[k]) ? 3 : (ps.pos[k][a] < mid ? 1 : 2); };
+  for (auto const &q : m_send_index)
+    for (int i : q)
+      m_boundary_side[i] |= side(i);
+  for (int k = nl; k < n; ++k)
+    if (ps.ghost_owner[k - nl] < 0)
+      m_boundary_side[k] = side(k);
 }
 
 // The ghosts of m_send to the other ranks (one message to each neighbour, or

@@ -143,6 +143,18 @@ public:
       for (int i : q)
         flag[static_cast<std::size_t>(i)] = 1;
   }
+  /** With the node grid split along exactly one axis (several ranks), that
+   * axis; else -1 (then boundary_sides() is empty). */
+  int boundary_axis() const { return m_boundary_axis; }
+  /** With boundary_axis() >= 0: per particle (locals, then ghosts) the side
+   * of this rank's domain along that axis at which another rank can read or
+   * write it, from the last build's positions: 1 the lower half of the domain
+   * (a local sent as a ghost or another rank's particle, below the middle),
+   * 2 the upper half, 3 both or neither (other ranks' colloid copies), 0 none
+   * (locals no other rank holds; periodic images of locals: see their
+   * owners). The Shardlow sweep's face rounds (integrators/shardlow.cpp)
+   * read it. Not collective. */
+  std::vector<char> const &boundary_sides() const { return m_boundary_side; }
   /** For each ghost (index g - n_local) the slot that stands for its
    * particle: a periodic image of a local its owner; another rank's particle
    * the first of its ghost slots (a particle can arrive as several periodic
@@ -351,6 +363,9 @@ private:
   // (rows only; extra as in m_pairs) and whether they are still those positions
   VerletPairs m_inner;
   mutable bool m_inner_fresh = false;
+  int m_boundary_axis = -1;             // boundary_axis()
+  std::vector<char> m_boundary_side;    // boundary_sides()
+  void mark_boundary_sides(ParticleStore const &ps, BoxGeometry const &box);
   mutable std::vector<int> m_ghost_rep; // ghost_representatives(): its cache
   mutable bool m_ghost_rep_valid = false;
   double m_inner_cut = 0.; // the rebuild's max_cut

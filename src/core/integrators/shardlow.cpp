@@ -224,17 +224,18 @@ int colours_along(int g, bool periodic) {
   return k;
 }
 
-/** Several ranks: the boundary @p pairs (list entries, in list order) swept
- * in rounds by the colour of the rank's domain, @p sweep(block) doing one
- * block; after each round the ghosts' velocity changes (and, @p spins, their
- * spin changes: the stick friction's torques) are added to their owners' and
- * every ghost gets its owner's velocity (after the last round only the
- * first: the next step's ghost update refreshes them). @p sent: the locals
- * sent to other ranks as ghosts, the only locals a reduction can change, so
- * a round costs O(ghosts + sent), not O(particles). Collective. */
-template <class Sweep>
-void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &pairs, std::vector<int> const &sent,
-                           bool spins, Sweep &&sweep) {
+/** Several ranks: the boundary pairs buf.deferred (list entries, in list
+ * order; their r_i - r_j in buf.deferred_d) swept in rounds by the colour of
+ * the rank's domain, @p sweep(block, its d) doing one block; after each round
+ * the ghosts' velocity changes (and, @p spins, their spin changes: the stick
+ * friction's torques) are added to their owners' and every ghost gets its
+ * owner's velocity (after the last round only the first: the next step's
+ * ghost update refreshes them). buf.sent: the locals sent to other ranks as
+ * ghosts, the only locals a reduction can change, so a round costs
+ * O(ghosts + sent), not O(particles). Collective. */
+template <class Sweep> void sweep_boundary_rounds(System &sys, ShardlowBuffers &buf, bool spins, Sweep &&sweep) {
+  auto const &pairs = buf.deferred;
+  auto const &sent = buf.sent;
   auto &ps = sys.particles();
   auto &cells = sys.cells();
   auto const g = cells.node_grid(sys.box());
@@ -247,12 +248,10 @@ void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &p
   }
   constexpr int kBlock = 248; // (as the select's blocks)
   int const nl = ps.n_local(), n = ps.size();
-  // one round's changes of a quantity q (v or omega) of the ghosts, from q0
-  // before the round; the locals' entries stay zero between rounds
-  struct Changes {
-    std::vector<Vector3d> q0, dq;
-  };
-  std::array<Changes, 2> ch;
+  // one round's changes dq of a quantity q (v or omega) of the ghosts, from
+  // q0 before the round (buf: kept between steps); dq's entries are zero
+  // between rounds (the locals' always but the sent ones', cleared after
+  // each round with the ghosts')
   std::array<std::vector<Vector3d> *, 2> q{&ps.v, nullptr};
 #ifdef ROTATION
   if (spins)
@@ -261,43 +260,102 @@ void sweep_boundary_rounds(System &sys, std::vector<std::array<int, 2>> const &p
   (void)spins;
 #endif
   for (int k = 0; k < 2; ++k)
-    if (q[k])
-      ch[k].dq.assign(static_cast<std::size_t>(n), Vector3d{});
+    if (q[k]) {
+      auto &dq = buf.dq[k];
+      if (!buf.dq_clean[k])
+        dq.assign(static_cast<std::size_t>(n), Vector3d{});
+      else
+        dq.resize(static_cast<std::size_t>(n)); // (new entries zero)
+      buf.dq_clean[k] = false; // (until the rounds are done: an exception in a sweep leaves it so)
+    }
+  // The rounds. Face rounds (the node grid split along one axis a:
+  // CellSystem::boundary_sides): every rank sweeps its pairs at the lower
+  // face of its domain along a in round 0 and those at the upper face in
+  // round 1. Two ranks never touch one particle in a round: a particle
+  // another rank holds lies within the range of one face of each domain
+  // that holds it, the lower face of one and the upper of the other (domains
+  // at least twice the range wide), and every other particle only its rank
+  // touches. A pair with particles at both faces (domains narrower than
+  // three times the range) follows in colour rounds. Otherwise (a grid split
+  // along several axes): one round per colour, in which the ranks of that
+  // colour sweep all their boundary pairs while the others wait.
+  int const a = cells.boundary_axis();
+  bool const face = a >= 0 && cells.boundary_sides().size() == static_cast<std::size_t>(n);
+  int n_rounds = n_colours;
+  bool mixed = false; // (face rounds: pairs with both faces possible)
+  if (face) {
+    double const range = std::max({cells.range(), cells.range_ll(), cells.range_ls()});
+    mixed = sys.box().length()[a] / g[a] < 3. * range;
+    n_rounds = 2 + (mixed ? n_colours : 0);
+    for (auto &v : buf.side_pairs)
+      v.clear();
+    auto const &side = buf.boundary;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      int const c = side[pairs[k][0]] | side[pairs[k][1]]; // (1, 2 or 3: deferred pairs touch a boundary particle)
+      buf.side_pairs[c - 1].push_back(static_cast<int>(k));
+    }
+#ifndef NDEBUG
+    if (!mixed && !buf.side_pairs[2].empty())
+      throw Utils::RuntimeError("internal error: a Shardlow boundary pair at both faces of a domain at least "
+                                "three times the pair range wide");
+#endif
+  }
   PairBlock b;
-  for (int c = 0; c < n_colours; ++c) {
-    if (c == mine) {
+  std::array<Vector3d, kBlock> d;
+  // sweep the deferred pairs of @p idx (all of them: nullptr), in their order
+  auto sweep_pairs = [&](std::vector<int> const *idx) {
+    std::size_t const m_all = idx ? idx->size() : pairs.size();
+    for (std::size_t p0 = 0; p0 < m_all; p0 += kBlock) {
+      int const m = static_cast<int>(std::min<std::size_t>(kBlock, m_all - p0));
+      for (int s = 0; s < m; ++s) {
+        std::size_t const k = idx ? static_cast<std::size_t>((*idx)[p0 + s]) : p0 + s;
+        b.i[s] = pairs[k][0], b.j[s] = pairs[k][1];
+        d[s] = buf.deferred_d[k];
+      }
+      b.size = m;
+      sweep(static_cast<PairBlock const &>(b), static_cast<Vector3d const *>(d.data()));
+    }
+  };
+  std::vector<int> const none;
+  for (int r = 0; r < n_rounds; ++r) {
+    // this rank's pairs in round r
+    std::vector<int> const *idx = &none;
+    if (!face)
+      idx = r == mine ? nullptr : &none;
+    else if (r < 2)
+      idx = &buf.side_pairs[r];
+    else
+      idx = r - 2 == mine ? &buf.side_pairs[2] : &none;
+    if (idx ? !idx->empty() : !pairs.empty()) {
       for (int k = 0; k < 2; ++k)
         if (q[k])
-          ch[k].q0.assign(q[k]->begin() + nl, q[k]->end());
-      for (std::size_t p0 = 0; p0 < pairs.size(); p0 += kBlock) {
-        int const m = static_cast<int>(std::min<std::size_t>(kBlock, pairs.size() - p0));
-        for (int s = 0; s < m; ++s)
-          b.i[s] = pairs[p0 + s][0], b.j[s] = pairs[p0 + s][1];
-        b.size = m;
-        sweep(static_cast<PairBlock const &>(b));
-      }
+          buf.q0[k].assign(q[k]->begin() + nl, q[k]->end());
+      sweep_pairs(idx);
       // (periodic images were booked on their owners, another rank's particle on its representative slot)
       auto const &rep = cells.ghost_representatives(ps);
       for (int k = 0; k < 2; ++k)
         if (q[k])
-          for (int g = nl; g < n; ++g)
-            if (rep[g - nl] == g)
-              ch[k].dq[g] = (*q[k])[g] - ch[k].q0[g - nl];
+          for (int gi = nl; gi < n; ++gi)
+            if (rep[gi - nl] == gi)
+              buf.dq[k][gi] = (*q[k])[gi] - buf.q0[k][gi - nl];
     }
     for (int k = 0; k < 2; ++k) {
       if (!q[k])
         continue;
-      auto &dq = ch[k].dq;
+      auto &dq = buf.dq[k];
       cells.reduce_ghost_values(ps, dq);
       for (int i : sent) {
         (*q[k])[i] += dq[i];
         dq[i] = Vector3d{};
       }
       std::fill(dq.begin() + nl, dq.end(), Vector3d{});
-      if (c + 1 < n_colours)
+      if (r + 1 < n_rounds)
         cells.fill_ghost_values(ps, *q[k]);
     }
   }
+  for (int k = 0; k < 2; ++k)
+    if (q[k])
+      buf.dq_clean[k] = true;
 }
 
 #ifdef MARBLE
@@ -438,9 +496,13 @@ void shardlow_sweep(System &sys) {
   int const nl = ps.n_local();
   // (several ranks: one slot for each other rank's particle, however many images of it came)
   int const *const rep = par ? sys.cells().ghost_representatives(ps).data() : nullptr;
-  std::vector<char> boundary;
-  std::vector<std::array<int, 2>> deferred;
-  std::vector<int> sent; // the locals sent as ghosts
+  // (several ranks: the flags, the sent locals and the deferred pairs in buffers kept between steps)
+  ShardlowBuffers &buf = sys.shardlow_buffers();
+  std::vector<char> &boundary = buf.boundary;
+  auto &deferred = buf.deferred;
+  auto &deferred_d = buf.deferred_d;
+  deferred.clear();
+  deferred_d.clear();
   // the stick friction's torques change spins, which its rounds then carry too
 #if defined(TRANS_DPD) && defined(ROTATION)
   bool const spins = any_sf;
@@ -453,18 +515,67 @@ void shardlow_sweep(System &sys) {
     if (spins)
       sys.cells().fill_ghost_values(ps, ps.omega); // (and spins)
 #endif
-    boundary.assign(static_cast<std::size_t>(ps.size()), 0);
-    sys.cells().mark_sent_locals(boundary);
+    // (with the face rounds, the flag is the side: CellSystem::boundary_sides)
+    auto const &sides = sys.cells().boundary_sides();
+    bool const face = sys.cells().boundary_axis() >= 0 && sides.size() == static_cast<std::size_t>(ps.size());
+    if (face) {
+      boundary.assign(sides.begin(), sides.end());
+    } else {
+      boundary.assign(static_cast<std::size_t>(ps.size()), 0);
+      sys.cells().mark_sent_locals(boundary);
+    }
+    buf.sent.clear();
     for (int i = 0; i < nl; ++i)
       if (boundary[i])
-        sent.push_back(i);
+        buf.sent.push_back(i);
     for (int k = nl; k < ps.size(); ++k) {
       int const o = ps.ghost_owner[k - nl];
-      boundary[k] = o >= 0 ? boundary[o] : 1;
+      boundary[k] = o >= 0 ? boundary[o] : (face ? boundary[k] : 1);
     }
   }
-  // one block of selected pairs (b, their d in D); @p defer: leave the boundary pairs for later
-  auto sweep_block = [&](PairBlock const &b, PairBlockSoA const &D, bool defer) {
+  // (defer: a block's interior pairs, compacted)
+  auto const inner = par ? std::make_unique<PairBlock>() : nullptr;
+  auto const inner_d = par ? std::make_unique<PairBlockSoA>() : nullptr;
+  // one block of selected pairs (b0, their d in D0); @p defer: leave the
+  // boundary pairs (those at a distance > 0, which the sweep would update)
+  // with their d for the rounds, and sweep the others: the same pairs in the
+  // same order with the same operands as if they were skipped one by one
+  // below (every step of a pair's update is per pair: the noise, the
+  // exponentials and roots of the blocks, the masses), without computing the
+  // deferred pairs' factors twice
+  auto sweep_block = [&](PairBlock const &b0, PairBlockSoA const &D0, bool defer) {
+    PairBlock const *pb = &b0;
+    PairBlockSoA const *pD = &D0;
+    if (defer) {
+      int s0 = 0;
+      while (s0 < b0.size && !(boundary[b0.i[s0]] | boundary[b0.j[s0]]))
+        ++s0;
+      if (s0 < b0.size) { // some boundary pair: compact the others
+        PairBlock &c = *inner;
+        PairBlockSoA &C = *inner_d;
+        int m = 0;
+        for (int s = 0; s < b0.size; ++s) {
+          int const i = b0.i[s], j = b0.j[s];
+          Vector3d const d{D0.dx[s], D0.dy[s], D0.dz[s]};
+          if (boundary[i] | boundary[j]) {
+            if (d.norm2() > 0.) {
+              deferred.push_back({i, j});
+              deferred_d.push_back(d);
+            }
+            continue;
+          }
+          c.i[m] = i, c.j[m] = j;
+          C.dx[m] = d[0], C.dy[m] = d[1], C.dz[m] = d[2];
+          ++m;
+        }
+        c.size = m;
+        if (m == 0)
+          return;
+        pb = &c, pD = &C;
+      }
+    }
+    PairBlock const &b = *pb;
+    PairBlockSoA const &D = *pD;
     // the noise of the block's pairs (independent draws the CPU overlaps)
     if (kT > 0.)
       draw_block_noise<DPDPair>(b, ps, ia, noise, xi);
@@ -531,10 +642,6 @@ void shardlow_sweep(System &sys) {
 #endif
           }
         }
-      }
-      if (defer && f != 0 && (boundary[i] | boundary[j])) {
-        deferred.push_back({i, j});
-        f = 0;
       }
       B.flags[s] = f;
     }
@@ -706,11 +813,9 @@ void shardlow_sweep(System &sys) {
   for_each_selected_block(ps, sys.cells().select_pairs(), ia, *soa,
                           [&](PairBlock const &b, PairBlockSoA const &D) { sweep_block(b, D, par); });
   if (par)
-    sweep_boundary_rounds(sys, deferred, sent, spins, [&](PairBlock const &b) {
-      for (int s = 0; s < b.size; ++s) {
-        Vector3d const d = ps.pos[b.i[s]] - ps.pos[b.j[s]];
-        soa->dx[s] = d[0], soa->dy[s] = d[1], soa->dz[s] = d[2];
-      }
+    sweep_boundary_rounds(sys, buf, spins, [&](PairBlock const &b, Vector3d const *d) {
+      for (int s = 0; s < b.size; ++s)
+        soa->dx[s] = d[s][0], soa->dy[s] = d[s][1], soa->dz[s] = d[s][2];
       sweep_block(b, *soa, false);
     });
 #ifdef MARBLE

@@ -11,6 +11,7 @@
 #include "marble/Colloids.hpp"
 #endif
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -37,6 +38,21 @@ struct AutoUpdate {
 // BrownianDynamics: overdamped position update with the Brownian thermostat
 // (integrators/brownian.cpp, doc/thermostats.md).
 enum class IntegratorKind { VelocityVerlet, SteepestDescent, Shardlow, DPDVV, BrownianDynamics };
+
+/** The Shardlow sweep's buffers on several ranks (integrators/shardlow.cpp),
+ * kept between steps so that a step allocates nothing. Scratch, not state:
+ * every step overwrites what it reads, except dq, which the rounds leave all
+ * zero (dq_clean). */
+struct ShardlowBuffers {
+  std::vector<char> boundary;                     // per particle: another rank reads or writes its velocity
+  std::vector<int> sent;                          // the locals sent to other ranks as ghosts
+  std::vector<std::array<int, 2>> deferred;       // the step's boundary pairs, in list order
+  std::vector<Utils::Vector3d> deferred_d;        // and their r_i - r_j (the select's)
+  std::array<std::vector<int>, 3> side_pairs;     // face rounds: the deferred pairs (indices) at sides 1, 2, both
+  std::array<std::vector<Utils::Vector3d>, 2> q0; // a round's ghost velocities (spins) before it
+  std::array<std::vector<Utils::Vector3d>, 2> dq; // per particle: their changes (zero between rounds)
+  std::array<bool, 2> dq_clean{true, true};       // dq[k] is all zero
+};
 
 struct SteepestDescentParams {
   double f_max = 0., gamma = 0., max_displacement = 0.;
@@ -273,6 +289,8 @@ public:
   }
   int large_range_mode() const { return m_large_range_mode; }
   std::vector<char> const &large_range_types_requested() const { return m_large_range_types; }
+  /** The Shardlow sweep's buffers on several ranks (scratch). */
+  ShardlowBuffers &shardlow_buffers() { return m_shardlow_buffers; }
 
 private:
   /** compute_forces(@p with_thermostat), then a collective check that every
@@ -356,6 +374,7 @@ private:
   std::vector<Utils::Vector3d> m_respa_end_pos; // respa_member_substeps: outside particles' positions after the substeps
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
+  ShardlowBuffers m_shardlow_buffers;
   /** Configure the cell system's large-range types for a rebuild; returns
    * the range of the solvent grid (the small types' cutoff). Collective. */
   double configure_large_range(double cut);
