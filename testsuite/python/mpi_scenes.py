@@ -319,8 +319,8 @@ def _shardlow_chains(wide):
     the test compares each chain with the six sequential orders of its pairs.
     @p wide: the particles' type a large-range type (cells/CellSystem.hpp:
     a full shell of ghosts, so a domain's locals go to the ranks on both
-    sides; with the half shell of small types they go to one side only, and
-    no pair touches both faces)."""
+    sides; with the half shell of small types and the grid split along x they
+    go to one side only, and no pair touches both faces)."""
     p = CHAIN
     pos, vel, force, L = shardlow_chains(marble.mpi_size())
     s = marble.System(box_l=list(L))

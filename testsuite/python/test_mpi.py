@@ -308,8 +308,9 @@ def test_shardlow_chains_across_a_narrow_domain_follow_a_sequential_order(ranks,
     each of i and j in another rank's pair across a face. After one step each
     chain's velocities must be those of one of the six sequential orders of
     its three pairs, to round-off; the orders differ from each other by far
-    more. The middle pair touches both faces only with large-range types
-    (wide: their full shell sends a domain's locals to both sides); sweeping
+    more. With the grid split along x the middle pair touches both faces only
+    with large-range types (wide: their full shell sends a domain's locals to
+    both sides); sweeping
     it in the lower or in the upper face round, while a neighbour rank sweeps
     its pair with j or i, gives none of the orders (checked: 0.005 and 0.02)."""
     import itertools

@@ -22,10 +22,13 @@
 // (fixed for a given particle set, decomposition and seed).
 // Several MPI ranks: the pairs whose particles no other rank reads (neither
 // is a ghost elsewhere nor another rank's particle) are swept first, on every
-// rank at once; the others ("boundary" pairs) follow in rounds by the colour
-// of the rank's domain (its node-grid coordinates modulo 2, or 3 where an odd
-// periodic axis needs it, so neighbouring domains differ), one colour at a
-// time; after each round the ghosts' velocity changes go to their owners and
+// rank at once; the others ("boundary" pairs) follow in rounds: with the node
+// grid split along one axis, face rounds (every rank sweeps the pairs at the
+// lower face of its domain, then those at the upper face: the two ranks that
+// hold a particle have it at different faces), pairs at both faces of a
+// narrow domain and other grids in rounds by the colour of the rank's domain
+// (its node-grid coordinates modulo 2, or 3 where an odd periodic axis needs
+// it, so neighbouring domains differ), one colour at a time; after each round the ghosts' velocity changes go to their owners and
 // every ghost gets its owner's velocity. Domains at least twice the pair range
 // wide keep two ranks of one colour from reaching the same particle, and the
 // copies of another rank's particle that came as several periodic images all
@@ -225,8 +228,8 @@ int colours_along(int g, bool periodic) {
 }
 
 /** Several ranks: the boundary pairs buf.deferred (list entries, in list
- * order; their r_i - r_j in buf.deferred_d) swept in rounds by the colour of
- * the rank's domain, @p sweep(block, its d) doing one block; after each round
+ * order; their r_i - r_j in buf.deferred_d) swept in rounds (face rounds,
+ * then colour rounds; see below), @p sweep(block, its d) doing one block; after each round
  * the ghosts' velocity changes (and, @p spins, their spin changes: the stick
  * friction's torques) are added to their owners' and every ghost gets its
  * owner's velocity (after the last round only the first: the next step's

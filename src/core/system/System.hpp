@@ -40,7 +40,7 @@ struct AutoUpdate {
 enum class IntegratorKind { VelocityVerlet, SteepestDescent, Shardlow, DPDVV, BrownianDynamics };
 
 /** The Shardlow sweep's buffers on several ranks (integrators/shardlow.cpp),
- * kept between steps so that a step allocates nothing. Scratch, not state:
+ * kept between steps (no per-step allocation of these). Scratch, not state:
  * every step overwrites what it reads, except dq, which the rounds leave all
  * zero (dq_clean). */
 struct ShardlowBuffers {
