@@ -233,6 +233,23 @@ def test_shardlow_dimers_1_vs_2_vs_3_ranks():
         assert_same_trajectory(runs[1], runs[n], tol=1e-12)
 
 
+def _dpd_pair_update(L, dt, gamma):
+    """delta(xi, xj, vi, vj): the exact kT = 0 Shardlow update of a DPD pair
+    of unit masses (weight 1 - r, r_cut 1): u' = a u along e, a =
+    exp(-gamma w^2 dt / mu), mu = 1/2, in a periodic box @p L (integrators/
+    shardlow.cpp); returns the change of v_i (v_j changes by its negative)."""
+    def delta(xi, xj, vi, vj):
+        d = xi - xj
+        d -= L * np.round(d / L)
+        rr = np.linalg.norm(d)
+        assert rr < 1.0
+        e = d / rr
+        mu = 0.5
+        a = np.exp(-gamma * (1.0 - rr) ** 2 * dt / mu)
+        return mu * (a - 1.0) * np.dot(e, vi - vj) * e
+    return delta
+
+
 def _shardlow_cluster_orders(r):
     """The velocities of each cluster a1 - p - a2 after one step, for the two
     sequential orders of its pairs (a1, p) and (p, a2), and for both at once
@@ -243,16 +260,7 @@ def _shardlow_cluster_orders(r):
     x0, v0, F = r["pos0"], r["v0"], r["force"]
     v = v0 + dt * F  # (the two half kicks of a constant force)
     x = x0 + dt * (v0 + 0.5 * dt * F)
-
-    def delta(xi, xj, vi, vj):
-        d = xi - xj
-        d -= L * np.round(d / L)
-        rr = np.linalg.norm(d)
-        assert rr < 1.0
-        e = d / rr
-        mu = 0.5
-        a = np.exp(-gamma * (1.0 - rr) ** 2 * dt / mu)
-        return mu * (a - 1.0) * np.dot(e, vi - vj) * e
+    delta = _dpd_pair_update(L, dt, gamma)
 
     out = []
     for c in range(len(x) // 3):
@@ -310,8 +318,7 @@ def test_shardlow_chains_across_a_narrow_domain_follow_a_sequential_order(ranks,
     its three pairs, to round-off; the orders differ from each other by far
     more. With the grid split along x the middle pair touches both faces only
     with large-range types (wide: their full shell sends a domain's locals to
-    both sides); sweeping
-    it in the lower or in the upper face round, while a neighbour rank sweeps
+    both sides); sweeping it in the lower or in the upper face round, while a neighbour rank sweeps
     its pair with j or i, gives none of the orders (checked: 0.005 and 0.02)."""
     import itertools
     from mpi_scenes import CHAIN
@@ -322,15 +329,7 @@ def test_shardlow_chains_across_a_narrow_domain_follow_a_sequential_order(ranks,
     x0, v0, F = r["pos0"], r["v0"], r["force"]
     v = v0 + dt * F  # (unit masses: the two half kicks of a constant force)
     x = x0 + dt * (v0 + 0.5 * dt * F)
-
-    def delta(xi, xj, vi, vj):
-        d = xi - xj
-        d -= L * np.round(d / L)
-        rr = np.linalg.norm(d)
-        assert rr < 1.0
-        e = d / rr
-        a = np.exp(-gamma * (1.0 - rr) ** 2 * dt / 0.5)
-        return 0.5 * (a - 1.0) * np.dot(e, vi - vj) * e
+    delta = _dpd_pair_update(L, dt, gamma)
 
     got = r["v"][np.argsort(r["ids"])]
     for c in range(len(x) // 4):
