@@ -28,8 +28,9 @@
 // hold a particle have it at different faces), pairs at both faces of a
 // narrow domain and other grids in rounds by the colour of the rank's domain
 // (its node-grid coordinates modulo 2, or 3 where an odd periodic axis needs
-// it, so neighbouring domains differ), one colour at a time; after each round the ghosts' velocity changes go to their owners and
-// every ghost gets its owner's velocity. Domains at least twice the pair range
+// it, so neighbouring domains differ), one colour at a time; after each
+// round the ghosts' velocity changes go to their owners and every ghost gets
+// its owner's velocity. Domains at least twice the pair range
 // wide keep two ranks of one colour from reaching the same particle, and the
 // copies of another rank's particle that came as several periodic images all
 // read and write one slot (CellSystem::ghost_representatives), so every pair
@@ -282,14 +283,12 @@ template <class Sweep> void sweep_boundary_rounds(System &sys, ShardlowBuffers &
   // three times the range) follows in colour rounds. Otherwise (a grid split
   // along several axes): one round per colour, in which the ranks of that
   // colour sweep all their boundary pairs while the others wait.
+  // (buf.face: decided once per step by the sweep, from the node grid alone,
+  // so every rank runs the same rounds)
+  bool const face = buf.face;
   int const a = cells.boundary_axis();
-  bool const face = a >= 0 && cells.boundary_sides().size() == static_cast<std::size_t>(n);
   int n_rounds = n_colours;
-  bool mixed = false; // (face rounds: pairs with both faces possible)
   if (face) {
-    double const range = std::max({cells.range(), cells.range_ll(), cells.range_ls()});
-    mixed = sys.box().length()[a] / g[a] < 3. * range;
-    n_rounds = 2 + (mixed ? n_colours : 0);
     for (auto &v : buf.side_pairs)
       v.clear();
     auto const &side = buf.boundary;
@@ -297,11 +296,20 @@ template <class Sweep> void sweep_boundary_rounds(System &sys, ShardlowBuffers &
       int const c = side[pairs[k][0]] | side[pairs[k][1]]; // (1, 2 or 3: deferred pairs touch a boundary particle)
       buf.side_pairs[c - 1].push_back(static_cast<int>(k));
     }
+    // the colour rounds for pairs at both faces, when some rank has one
+    // (possible only in domains narrower than three ranges; one collective
+    // then, which spares two or more rounds' exchanges when none has)
+    double const range = std::max({cells.range(), cells.range_ll(), cells.range_ls()});
+    bool const narrow = sys.box().length()[a] / g[a] < 3. * range;
 #ifndef NDEBUG
-    if (!mixed && !buf.side_pairs[2].empty())
+    bool const both = sys.comm().any(!buf.side_pairs[2].empty()); // (collective: every rank stops, not one)
+    if (both && !narrow)
       throw Utils::RuntimeError("internal error: a Shardlow boundary pair at both faces of a domain at least "
                                 "three times the pair range wide");
+#else
+    bool const both = narrow && sys.comm().any(!buf.side_pairs[2].empty());
 #endif
+    n_rounds = 2 + (both ? n_colours : 0);
   }
   PairBlock b;
   std::array<Vector3d, kBlock> d;
@@ -519,8 +527,14 @@ void shardlow_sweep(System &sys) {
       sys.cells().fill_ghost_values(ps, ps.omega); // (and spins)
 #endif
     // (with the face rounds, the flag is the side: CellSystem::boundary_sides)
+    // (decided from the node grid alone, the same on every rank: the rounds
+    // that follow are collective)
     auto const &sides = sys.cells().boundary_sides();
-    bool const face = sys.cells().boundary_axis() >= 0 && sides.size() == static_cast<std::size_t>(ps.size());
+    bool const face = buf.face = sys.cells().boundary_axis() >= 0;
+    if (face && sides.size() != static_cast<std::size_t>(ps.size()))
+      throw Utils::RuntimeError("internal error: the Shardlow sweep's boundary sides (" + std::to_string(sides.size()) +
+                                ") do not match the particles (" + std::to_string(ps.size()) +
+                                "): the ghosts changed without a rebuild");
     if (face) {
       boundary.assign(sides.begin(), sides.end());
     } else {

@@ -52,6 +52,7 @@ struct ShardlowBuffers {
   std::array<std::vector<Utils::Vector3d>, 2> q0; // a round's ghost velocities (spins) before it
   std::array<std::vector<Utils::Vector3d>, 2> dq; // per particle: their changes (zero between rounds)
   std::array<bool, 2> dq_clean{true, true};       // dq[k] is all zero
+  bool face = false; // this step's rounds are face rounds (CellSystem::boundary_axis() >= 0; the same on every rank)
 };
 
 struct SteepestDescentParams {
