@@ -143,6 +143,15 @@ int axis_coord(double x, double dl, int p) {
  * @p dl whose domain, grown by @p r, holds the coordinate @p x (lo > hi:
  * none); along an open axis the outer domains extend to infinity. */
 std::pair<int, int> grown_domains(double x, double r, double dl, int p, bool periodic) {
+  if (p == 1) {
+    // one domain along the axis: the same answer without the divisions
+    // (floor((x - r) / dl) < 1 iff x - r < dl, the quotient of a double
+    // below dl being below 1 after rounding; floor((x + r) / dl) >= 0 iff
+    // x + r >= 0)
+    if (!periodic || (x - r < dl && x + r >= 0.))
+      return {0, 0};
+    return {1, 0};
+  }
   int a = static_cast<int>(std::floor((x - r) / dl));
   int b = static_cast<int>(std::floor((x + r) / dl));
   if (!periodic) {

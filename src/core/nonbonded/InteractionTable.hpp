@@ -112,6 +112,31 @@ public:
       }
     return r;
   }
+  /** The types auto_range_split may make large-range, before their counts
+   * are known: with b the smallest positive pair range, those whose own pairs
+   * reach farther than 2 b (or, without pairs of their own, whose pairs with
+   * another type do). None (every scene of one range scale): no split, and no
+   * need to count the particles of each type. */
+  std::vector<char> range_split_candidates() const {
+    double b = 0.;
+    for (int i = 0; i < m_n; ++i)
+      for (int j = 0; j < m_n; ++j) {
+        double const c = pair_range(i, j);
+        if (c > 0. && (b == 0. || c < b))
+          b = c;
+      }
+    std::vector<char> cand(m_n, 0);
+    for (int t = 0; t < m_n && b > 0.; ++t) {
+      if (is_large(t))
+        continue;
+      double reach = 0.;
+      for (int j = 0; j < m_n; ++j)
+        reach = std::max(reach, pair_range(t, j));
+      double const self = pair_range(t, t);
+      cand[t] = (self > 2. * b || (self == 0. && reach > 2. * b)) ? 1 : 0;
+    }
+    return cand;
+  }
   /** The automatic split (doc/architecture.md, "Two cell grids"), given the
    * number of particles of each type (@p count, all ranks): with b the
    * smallest positive pair range, a type is large-range if its own pairs
@@ -121,29 +146,15 @@ public:
    * large-range ranges exceed it by more than 1.5 times. Otherwise (and
    * for every scene of one range scale) no split: an empty @c large. */
   RangeSplit auto_range_split(std::vector<double> const &count) const {
-    double b = 0., total = 0.;
-    for (int i = 0; i < m_n; ++i)
-      for (int j = 0; j < m_n; ++j) {
-        double const c = pair_range(i, j);
-        if (c > 0. && (b == 0. || c < b))
-          b = c;
-      }
+    double total = 0.;
     for (double c : count)
       total += c;
-    std::vector<char> large(m_n, 0);
+    std::vector<char> large = range_split_candidates();
     bool any = false;
-    for (int t = 0; t < m_n && b > 0.; ++t) {
-      if (is_large(t))
-        continue;
-      double reach = 0.;
-      for (int j = 0; j < m_n; ++j)
-        reach = std::max(reach, pair_range(t, j));
-      double const self = pair_range(t, t);
+    for (int t = 0; t < m_n; ++t) {
       double const n_t = t < static_cast<int>(count.size()) ? count[t] : 0.;
-      if ((self > 2. * b || (self == 0. && reach > 2. * b)) && n_t <= 0.25 * total) {
-        large[t] = 1;
-        any = true;
-      }
+      large[t] = large[t] && n_t <= 0.25 * total;
+      any = any || large[t];
     }
     RangeSplit r;
     if (!any)

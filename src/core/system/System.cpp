@@ -217,6 +217,14 @@ void System::ensure_lists() {
 double System::configure_large_range(double cut) {
   InteractionTable::RangeSplit split;
   if (m_large_range_mode < 0) {
+    // (a scene of one range scale has no candidate: no split, and no pass
+    // over the locals to count their types; the interaction table is the
+    // same on every rank, so every rank skips the reduction alike)
+    auto const cand = m_ia.range_split_candidates();
+    if (std::find(cand.begin(), cand.end(), char(1)) == cand.end()) {
+      m_cells.set_large_range({}, 0., 0.);
+      return cut;
+    }
     int const nt = m_ia.n_types();
     std::vector<double> count(static_cast<std::size_t>(nt), 0.);
     for (int i = 0; i < m_ps.n_local(); ++i)
