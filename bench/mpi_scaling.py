@@ -33,6 +33,11 @@ CPU time it spent inside MPI calls):
            updates, ghost pairs, the extra list work): what the scheme
            costs on top of the split work, an upper bound for an idle
            machine, where the waits are short but not zero.
+The wall time in MPI calls is reported as the slower rank's share of the
+round, and the spread between the ranks (most minus least, per round: the
+time one rank waits for the other, an imbalance of work or of memory
+speed between them); the JSON holds each rank's time by kind of call
+(reductions, neighbour exchanges, alltoallv, other; doc/parallel.md).
 Writes bench/results/mpi_scaling.json and .png.
 """
 import argparse
@@ -79,7 +84,7 @@ def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
                                                protocol=le.LinearShear(shear_velocity=shear * L))
     s.integrator.run(30)
     core = s._core
-    wall, cpu, comm_cpu, comm_wall = [], [], [], []
+    wall, cpu, comm_cpu, comm_wall, comm_kinds = [], [], [], [], []
     for _ in range(rounds):
         s.analysis.energy()  # a collective call: the ranks start together
         core.reset_comm_stats()
@@ -91,9 +96,12 @@ def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
         st = dict(core.comm_stats())
         comm_cpu.append(st.get("cpu_seconds", 0.0))
         comm_wall.append(st.get("wall_seconds", 0.0))
+        # where the wall time in MPI calls went: the reductions' votes or the exchanges
+        comm_kinds.append({k: st.get("wall_" + k, 0.0) for k in ("allreduce", "alltoallv", "neighbor", "other")})
     # every rank writes its own record (no collective read needed)
     with open(f"{out}.{marble.mpi_rank()}", "w") as f:
         json.dump(dict(n=n, steps=steps, wall=wall, cpu=cpu, comm_cpu=comm_cpu, comm_wall=comm_wall,
+                       comm_kinds=comm_kinds,
                        ranks=marble.mpi_size(), node_grid=list(s.cell_system.node_grid)), f)
 
 
@@ -146,6 +154,10 @@ def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0):
         res["work_sum"] = [sum(x["cpu"][k] - x["comm_cpu"][k] for x in recs)
                            for k in range(len(res["wall"]))]
         res["comm_wall_max"] = [max(x["comm_wall"][k] for x in recs) for k in range(len(res["wall"]))]
+        # the spread of the ranks' wall time in MPI calls: the time the faster rank
+        # waits for the slower one (an imbalance of work or of speed between them)
+        res["comm_wall_min"] = [min(x["comm_wall"][k] for x in recs) for k in range(len(res["wall"]))]
+        res["comm_kinds_per_rank"] = [x.get("comm_kinds", []) for x in recs]
         return res
 
 
@@ -186,6 +198,8 @@ def main():
         cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
         work_rate = {n: [] for n in a.ranks}  # the same without the CPU time in MPI calls
         comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
+        wait_spread = {n: [] for n in a.ranks}  # (most - least of the ranks' MPI wall time) / round wall time
+        kinds = {n: [] for n in a.ranks}  # per launch: each rank's MPI wall time by kind, per round
         for k in range(a.launches):
             for n in a.ranks:
                 r = launch(n, L, steps, rounds, a.bind_to, a.integrator, a.shear)
@@ -193,6 +207,8 @@ def main():
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]
                 comm_share[n] += [c / w for c, w in zip(r["comm_wall_max"], r["wall"])]
+                wait_spread[n] += [(c - m) / w for c, m, w in zip(r["comm_wall_max"], r["comm_wall_min"], r["wall"])]
+                kinds[n].append(r["comm_kinds_per_rank"])
                 print(f"L={L:g} ranks={n} launch {k}: "
                       f"{statistics.median(samples[n][-rounds:]):.3e} particle-steps/s", flush=True)
         case = dict(L=L, n=int(round(3 * L**3)), steps_per_round=steps)
@@ -221,7 +237,10 @@ def main():
                                      efficiency_work=statistics.median(work_rate[n]) / w0,
                                      efficiency_work_per_launch=work_per_launch,
                                      comm_wall_share=statistics.median(comm_share[n]),
-                                     comm_wall_share_range=[min(comm_share[n]), max(comm_share[n])])
+                                     comm_wall_share_range=[min(comm_share[n]), max(comm_share[n])],
+                                     comm_wait_spread=statistics.median(wait_spread[n]),
+                                     comm_wait_spread_range=[min(wait_spread[n]), max(wait_spread[n])],
+                                     comm_kinds_per_launch=kinds[n])
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
     others, stolen = others_share(counters0, cpu_counters())
@@ -260,7 +279,8 @@ def main():
                            f"{max(e['efficiency_cpu_per_launch']):.3f}), E_work = "
                            f"{e['efficiency_work']:.3f} ({min(e['efficiency_work_per_launch']):.3f}-"
                            f"{max(e['efficiency_work_per_launch']):.3f}), time in MPI calls "
-                           f"{e['comm_wall_share']:.2f} of the wall time")
+                           f"{e['comm_wall_share']:.2f} of the wall time (the ranks differ by "
+                           f"{e['comm_wait_spread']:.2f}: one waits for the other)")
     print("EFFICIENCY: " + "; ".join(summary) +
           f"; load average {la[0]:.1f} before, {la[1]:.1f} after ({la_after_others:.1f} without the "
           f"bench's {max(a.ranks)} ranks) on {os.cpu_count()} cores" + how

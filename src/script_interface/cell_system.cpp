@@ -44,6 +44,8 @@ void bind_cell_system(py::class_<System> &cls) {
     d["neighbor"] = c.neighbor;
     d["messages"] = c.messages, d["bytes"] = c.bytes;
     d["cpu_seconds"] = c.cpu_seconds, d["wall_seconds"] = c.wall_seconds;
+    d["wall_allreduce"] = c.wall_allreduce, d["wall_alltoallv"] = c.wall_alltoallv;
+    d["wall_neighbor"] = c.wall_neighbor, d["wall_other"] = c.wall_other;
     return d;
   });
   cls.def("reset_comm_stats", [](System &s) { s.comm().reset_stats(); });

@@ -95,7 +95,8 @@ def test_ghosts_and_traffic(ranks):
         st = rec["stats"]
         if ranks == 1:
             assert st == dict(allreduce=0, alltoallv=0, neighbor=0, other=0, messages=0, bytes=0,
-                              cpu_seconds=0.0, wall_seconds=0.0), st
+                              cpu_seconds=0.0, wall_seconds=0.0, wall_allreduce=0.0, wall_alltoallv=0.0,
+                              wall_neighbor=0.0, wall_other=0.0), st
         else:
             # ghost positions/velocities out (but at a Verlet-list rebuild, which sends
             # whole ghost records) and ghost forces back: neighbour exchanges (point to
@@ -106,3 +107,8 @@ def test_ghosts_and_traffic(ranks):
             assert st["messages"] >= 2 * 10 * (ranks - 1), st
             assert st["bytes"] > 0 and st["allreduce"] >= 10, st
             assert 0.0 < st["wall_seconds"] and 0.0 <= st["cpu_seconds"], st
+            # the wall time by kind: every call in one kind, none in the alltoallv
+            kinds = [st["wall_" + k] for k in ("allreduce", "alltoallv", "neighbor", "other")]
+            assert min(kinds) >= 0.0 and st["wall_alltoallv"] == 0.0, st
+            assert st["wall_neighbor"] > 0.0 and st["wall_allreduce"] > 0.0, st
+            assert sum(kinds) == pytest.approx(st["wall_seconds"], rel=1e-9, abs=1e-12), st

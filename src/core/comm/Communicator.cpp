@@ -127,10 +127,13 @@ namespace {
  * (bench/mpi_scaling.py: the time a rank spends in communication and waits). */
 class CommTimer {
 public:
-  explicit CommTimer(CommStats &s) : m_s(s), m_c0(cpu_now()), m_w0(MPI_Wtime()) {}
+  /** @p kind: the CommStats member that gets the wall time by kind too. */
+  CommTimer(CommStats &s, double CommStats::*kind) : m_s(s), m_kind(kind), m_c0(cpu_now()), m_w0(MPI_Wtime()) {}
   ~CommTimer() {
+    double const w = MPI_Wtime() - m_w0;
     m_s.cpu_seconds += cpu_now() - m_c0;
-    m_s.wall_seconds += MPI_Wtime() - m_w0;
+    m_s.wall_seconds += w;
+    m_s.*m_kind += w;
   }
   CommTimer(CommTimer const &) = delete;
   CommTimer &operator=(CommTimer const &) = delete;
@@ -142,6 +145,7 @@ private:
     return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
   }
   CommStats &m_s;
+  double CommStats::*m_kind;
   double m_c0, m_w0;
 };
 
@@ -154,7 +158,7 @@ template <> MPI_Datatype mpi_type<int>() { return MPI_INT; }
 template <typename T> void allreduce(CommStats &st, MPI_Comm comm, int size, T *x, int n, MPI_Op op) {
   if (size > 1 && n > 0) {
     ++st.allreduce;
-    CommTimer const timer(st);
+    CommTimer const timer(st, &CommStats::wall_allreduce);
     MPI_Allreduce(MPI_IN_PLACE, x, n, mpi_type<T>(), op, comm);
   }
 }
@@ -182,7 +186,7 @@ int Communicator::min(int x) const {
 void Communicator::bcast_bytes(void *data, std::size_t n, int root) const {
   if (m_size > 1 && n > 0) {
     ++m_stats.other;
-    CommTimer const timer(m_stats);
+    CommTimer const timer(m_stats, &CommStats::wall_other);
     MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, m_comm);
   }
 }
@@ -205,7 +209,7 @@ std::vector<int> Communicator::allgather(int x) const {
   std::vector<int> out(m_size, x);
   if (m_size > 1) {
     ++m_stats.other;
-    CommTimer const timer(m_stats);
+    CommTimer const timer(m_stats, &CommStats::wall_other);
     MPI_Allgather(&x, 1, MPI_INT, out.data(), 1, MPI_INT, m_comm);
   }
   return out;
@@ -218,7 +222,7 @@ std::vector<char> Communicator::allgatherv_bytes(std::vector<char> const &local)
   for (int r = 1; r < m_size; ++r)
     displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<char> out(static_cast<std::size_t>(displs.back() + counts.back()));
-  CommTimer const timer(m_stats);
+  CommTimer const timer(m_stats, &CommStats::wall_other);
   MPI_Allgatherv(local.data(), static_cast<int>(local.size()), MPI_BYTE, out.data(), counts.data(),
                  displs.data(), MPI_BYTE, m_comm);
   return out;
@@ -229,7 +233,7 @@ Communicator::alltoallv_bytes(std::vector<std::vector<char>> const &send) const 
     return {send.empty() ? std::vector<char>{} : send[0]};
   std::vector<int> sc(m_size, 0), rc(m_size, 0), sd(m_size, 0), rd(m_size, 0);
   ++m_stats.alltoallv;
-  CommTimer const timer(m_stats);
+  CommTimer const timer(m_stats, &CommStats::wall_alltoallv);
   for (int r = 0; r < m_size && r < static_cast<int>(send.size()); ++r) {
     sc[r] = static_cast<int>(send[r].size());
     if (r != m_rank && sc[r] > 0) {
@@ -269,7 +273,7 @@ void Communicator::neighbor_exchange_blocks(Block const *send, int n_send, Block
   if (m_size == 1)
     return;
   ++m_stats.neighbor;
-  CommTimer const timer(m_stats);
+  CommTimer const timer(m_stats, &CommStats::wall_neighbor);
   // one tag for all: the blocks between two ranks arrive in the order sent
   // (MPI's non-overtaking rule), and each call completes before the next
   constexpr int kTag = 7301;
@@ -298,7 +302,7 @@ void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
   if (m_size == 1)
     return;
   ++m_stats.neighbor;
-  CommTimer const timer(m_stats);
+  CommTimer const timer(m_stats, &CommStats::wall_neighbor);
   // its own tag: never matched by the fixed-size exchange's receives; blocks
   // between two ranks arrive in the order sent (non-overtaking)
   constexpr int kTag = 7302;
@@ -326,7 +330,7 @@ void Communicator::neighbor_exchange_var_bytes(std::vector<int> const &nbrs,
 void Communicator::barrier() const {
   if (m_size > 1) {
     ++m_stats.other;
-    CommTimer const timer(m_stats);
+    CommTimer const timer(m_stats, &CommStats::wall_other);
     MPI_Barrier(m_comm);
   }
 }

@@ -29,6 +29,8 @@ struct CommStats {
   long long bytes = 0;      ///< bytes of those blocks
   double cpu_seconds = 0.;  ///< this thread's CPU time inside those MPI calls (waits poll: CPU)
   double wall_seconds = 0.; ///< wall time inside those MPI calls
+  /// that wall time by kind (where a rank waits: the reductions' votes or the exchanges)
+  double wall_allreduce = 0., wall_alltoallv = 0., wall_neighbor = 0., wall_other = 0.;
 };
 
 class Communicator {
