@@ -157,7 +157,7 @@ def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0):
         # the spread of the ranks' wall time in MPI calls: the time the faster rank
         # waits for the slower one (an imbalance of work or of speed between them)
         res["comm_wall_min"] = [min(x["comm_wall"][k] for x in recs) for k in range(len(res["wall"]))]
-        res["comm_kinds_per_rank"] = [x.get("comm_kinds", []) for x in recs]
+        res["comm_kinds_per_rank"] = [x["comm_kinds"] for x in recs]
         return res
 
 

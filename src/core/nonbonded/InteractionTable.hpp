@@ -137,7 +137,8 @@ public:
     }
     return cand;
   }
-  /** The automatic split (doc/architecture.md, "Two cell grids"), given the
+  /** The automatic split (doc/architecture.md, "Two cell grids"), given
+   * range_split_candidates() (@p large, taken over) and the
    * number of particles of each type (@p count, all ranks): with b the
    * smallest positive pair range, a type is large-range if its own pairs
    * reach farther than 2 b (or, without pairs of its own, its pairs with
@@ -145,11 +146,11 @@ public:
    * split is kept only if the small types' range stays positive and the
    * large-range ranges exceed it by more than 1.5 times. Otherwise (and
    * for every scene of one range scale) no split: an empty @c large. */
-  RangeSplit auto_range_split(std::vector<double> const &count) const {
+  RangeSplit auto_range_split(std::vector<char> large, std::vector<double> const &count) const {
     double total = 0.;
     for (double c : count)
       total += c;
-    std::vector<char> large = range_split_candidates();
+    large.resize(static_cast<std::size_t>(m_n), 0);
     bool any = false;
     for (int t = 0; t < m_n; ++t) {
       double const n_t = t < static_cast<int>(count.size()) ? count[t] : 0.;

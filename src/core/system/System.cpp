@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace Marble {
 
@@ -220,19 +221,17 @@ double System::configure_large_range(double cut) {
     // (a scene of one range scale has no candidate: no split, and no pass
     // over the locals to count their types; the interaction table is the
     // same on every rank, so every rank skips the reduction alike)
-    auto const cand = m_ia.range_split_candidates();
-    if (std::find(cand.begin(), cand.end(), char(1)) == cand.end()) {
-      m_cells.set_large_range({}, 0., 0.);
-      return cut;
+    auto cand = m_ia.range_split_candidates();
+    if (std::find(cand.begin(), cand.end(), char(1)) != cand.end()) {
+      int const nt = m_ia.n_types();
+      std::vector<double> count(static_cast<std::size_t>(nt), 0.);
+      for (int i = 0; i < m_ps.n_local(); ++i)
+        if (m_ps.type[i] >= 0 && m_ps.type[i] < nt)
+          count[static_cast<std::size_t>(m_ps.type[i])] += 1.;
+      if (nt > 0)
+        m_comm.sum_inplace(count.data(), nt);
+      split = m_ia.auto_range_split(std::move(cand), count);
     }
-    int const nt = m_ia.n_types();
-    std::vector<double> count(static_cast<std::size_t>(nt), 0.);
-    for (int i = 0; i < m_ps.n_local(); ++i)
-      if (m_ps.type[i] >= 0 && m_ps.type[i] < nt)
-        count[static_cast<std::size_t>(m_ps.type[i])] += 1.;
-    if (nt > 0)
-      m_comm.sum_inplace(count.data(), nt);
-    split = m_ia.auto_range_split(count);
   } else if (m_large_range_mode > 0) {
     split = m_ia.range_split(m_large_range_types);
     if (!(split.cut_small > 0.))
