@@ -60,7 +60,7 @@ def time_step(integrator):
     return 0.04 if integrator.startswith("shardlow") else 0.01
 
 
-def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
+def worker(L, steps, rounds, out, integrator="vv", shear=0.0, balance=0):
     import marble
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
@@ -83,6 +83,11 @@ def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
         s.lees_edwards.set_boundary_conditions(shear_direction="x", shear_plane_normal="y",
                                                protocol=le.LinearShear(shear_velocity=shear * L))
     s.integrator.run(30)
+    if balance > 0:
+        # the automatic balance by measured work (doc/parallel.md "Load balance"):
+        # every `balance` steps, half way to the computed planes; a settling run first
+        s.cell_system.set_load_balance(balance, by="time", damping=0.5, threshold=0.02)
+        s.integrator.run(4 * balance)
     core = s._core
     wall, cpu, comm_cpu, comm_wall, comm_kinds = [], [], [], [], []
     for _ in range(rounds):
@@ -101,7 +106,9 @@ def worker(L, steps, rounds, out, integrator="vv", shear=0.0):
     # every rank writes its own record (no collective read needed)
     with open(f"{out}.{marble.mpi_rank()}", "w") as f:
         json.dump(dict(n=n, steps=steps, wall=wall, cpu=cpu, comm_cpu=comm_cpu, comm_wall=comm_wall,
-                       comm_kinds=comm_kinds,
+                       comm_kinds=comm_kinds, n_local=len(s.cell_system.local_ids()),
+                       domain_cuts=[list(c) for c in s.cell_system.domain_cuts],
+                       n_balances=s.cell_system.get_load_balance()["n_balances"],
                        ranks=marble.mpi_size(), node_grid=list(s.cell_system.node_grid)), f)
 
 
@@ -135,14 +142,14 @@ def others_share(c0, c1):
     return others / cap, (c1["steal"] - c0["steal"]) / cap
 
 
-def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0):
+def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0, balance=0):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                    OMPI_MCA_rmaps_base_oversubscribe="1")
         cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", bind, sys.executable,
                os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out,
-               "--integrator", integrator, "--shear", str(shear)]
+               "--integrator", integrator, "--shear", str(shear), "--balance", str(balance)]
         subprocess.run(cmd, env=env, check=True)
         recs = []
         for r in range(ranks):
@@ -158,6 +165,7 @@ def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0):
         # waits for the slower one (an imbalance of work or of speed between them)
         res["comm_wall_min"] = [min(x["comm_wall"][k] for x in recs) for k in range(len(res["wall"]))]
         res["comm_kinds_per_rank"] = [x["comm_kinds"] for x in recs]
+        res["n_local_per_rank"] = [x["n_local"] for x in recs]
         return res
 
 
@@ -176,10 +184,15 @@ def main():
                    help="mpiexec's process binding (default none)")
     p.add_argument("--name", help="output file name (default mpi_scaling or mpi_scaling_quick)")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
+    p.add_argument("--balance", type=int, default=0, metavar="EVERY",
+                   help="also run every multi-rank launch with the automatic load balance by time every "
+                        "EVERY steps (cell_system.set_load_balance), interleaved with the plain launch; "
+                        "reports its efficiency as 'N+balance' (default 0: not run)")
     p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.worker:
-        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator, a.shear)
+        worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator, a.shear,
+               a.balance)
         return
     cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
     if a.sizes:
@@ -193,43 +206,51 @@ def main():
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0,
                           dt=time_step(a.integrator), skin=0.4),
                launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, shear=a.shear, cases={})
+    # the launches compared: (label, ranks, balance every); with --balance
+    # each multi-rank launch is also run with the automatic load balance
+    variants = [(str(n), n, 0) for n in a.ranks]
+    if a.balance > 0:
+        variants += [(f"{n}+balance", n, a.balance) for n in a.ranks if n > 1]
+    n_of = {v: n for v, n, _ in variants}
+    base_v = variants[0][0]
     for L, steps in cases.items():
-        samples = {n: [] for n in a.ranks}
-        cpu_rate = {n: [] for n in a.ranks}   # particle-steps per CPU-second (all ranks)
-        work_rate = {n: [] for n in a.ranks}  # the same without the CPU time in MPI calls
-        comm_share = {n: [] for n in a.ranks}  # wall time in MPI calls / round wall time
-        wait_spread = {n: [] for n in a.ranks}  # (most - least of the ranks' MPI wall time) / round wall time
-        kinds = {n: [] for n in a.ranks}  # per launch: each rank's MPI wall time by kind, per round
+        samples = {v: [] for v, _, _ in variants}
+        cpu_rate = {v: [] for v, _, _ in variants}   # particle-steps per CPU-second (all ranks)
+        work_rate = {v: [] for v, _, _ in variants}  # the same without the CPU time in MPI calls
+        comm_share = {v: [] for v, _, _ in variants}  # wall time in MPI calls / round wall time
+        wait_spread = {v: [] for v, _, _ in variants}  # (most - least of the ranks' MPI wall time) / round wall time
+        kinds = {v: [] for v, _, _ in variants}  # per launch: each rank's MPI wall time by kind, per round
         for k in range(a.launches):
-            for n in a.ranks:
-                r = launch(n, L, steps, rounds, a.bind_to, a.integrator, a.shear)
+            for n, nr, bal in variants:
+                r = launch(nr, L, steps, rounds, a.bind_to, a.integrator, a.shear, bal)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]
                 comm_share[n] += [c / w for c, w in zip(r["comm_wall_max"], r["wall"])]
                 wait_spread[n] += [(c - m) / w for c, m, w in zip(r["comm_wall_max"], r["comm_wall_min"], r["wall"])]
                 kinds[n].append(r["comm_kinds_per_rank"])
-                print(f"L={L:g} ranks={n} launch {k}: "
+                per_rank = f"{r['n_local_per_rank']} particles per rank, " if bal else ""
+                print(f"L={L:g} ranks={n} launch {k}: {per_rank}"
                       f"{statistics.median(samples[n][-rounds:]):.3e} particle-steps/s", flush=True)
         case = dict(L=L, n=int(round(3 * L**3)), steps_per_round=steps)
-        base = statistics.median(samples[a.ranks[0]])
-        b0 = samples[a.ranks[0]]
-        for n in a.ranks:
+        base = statistics.median(samples[base_v])
+        b0 = samples[base_v]
+        for n, nr, _ in variants:
             med = statistics.median(samples[n])
             # spread: the efficiency of each interleaved launch pair (medians of its rounds)
             per_launch = [statistics.median(samples[n][k * rounds:(k + 1) * rounds])
-                          / statistics.median(b0[k * rounds:(k + 1) * rounds]) / (n / a.ranks[0])
+                          / statistics.median(b0[k * rounds:(k + 1) * rounds]) / (nr / n_of[base_v])
                           for k in range(a.launches)]
-            c0 = statistics.median(cpu_rate[a.ranks[0]])
-            w0 = statistics.median(work_rate[a.ranks[0]])
+            c0 = statistics.median(cpu_rate[base_v])
+            w0 = statistics.median(work_rate[base_v])
             cpu_per_launch = [statistics.median(cpu_rate[n][k * rounds:(k + 1) * rounds])
-                              / statistics.median(cpu_rate[a.ranks[0]][k * rounds:(k + 1) * rounds])
+                              / statistics.median(cpu_rate[base_v][k * rounds:(k + 1) * rounds])
                               for k in range(a.launches)]
             work_per_launch = [statistics.median(work_rate[n][k * rounds:(k + 1) * rounds])
-                               / statistics.median(work_rate[a.ranks[0]][k * rounds:(k + 1) * rounds])
+                               / statistics.median(work_rate[base_v][k * rounds:(k + 1) * rounds])
                                for k in range(a.launches)]
             case[f"ranks{n}"] = dict(median_wall=med, samples_wall=samples[n],
-                                     speedup=med / base, efficiency=med / base / (n / a.ranks[0]),
+                                     speedup=med / base, efficiency=med / base / (nr / n_of[base_v]),
                                      efficiency_per_launch=per_launch,
                                      samples_cpu_rate=cpu_rate[n], samples_work_rate=work_rate[n],
                                      efficiency_cpu=statistics.median(cpu_rate[n]) / c0,
@@ -254,7 +275,7 @@ def main():
         json.dump(res, f, indent=1)
     for key, c in res["cases"].items():
         print(key, " ".join(f"{n} ranks: {c[f'ranks{n}']['median_wall']:.3e}/s "
-                            f"(E = {c[f'ranks{n}']['efficiency']:.2f})" for n in a.ranks))
+                            f"(E = {c[f'ranks{n}']['efficiency']:.2f})" for n, _, _ in variants))
     # the one-line summary (issue 15's goal: E >= 0.92 at L = 40 on 2 ranks, idle machine)
     # busy or not: judged from the load before the bench only (the 1-minute
     # load average after it includes the bench's own ranks, up to max(ranks)
@@ -270,7 +291,7 @@ def main():
                f"stole {100 * stolen:.1f} %")
     summary = []
     for key, c in res["cases"].items():
-        for n in a.ranks[1:]:
+        for n, _, _ in variants[1:]:
             e = c[f"ranks{n}"]
             summary.append(f"{key} {n} ranks E = {e['efficiency']:.3f} "
                            f"(per launch {min(e['efficiency_per_launch']):.3f}-"

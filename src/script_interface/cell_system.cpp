@@ -31,6 +31,30 @@ void bind_cell_system(py::class_<System> &cls) {
     auto const d = s.cells().local_domain(s.box());
     return std::make_pair(vec_to_array(d.first), vec_to_array(d.second));
   });
+  // domain cuts and load balance (system/balance.cpp; checked in marble/cell_system.py)
+  cls.def("domain_cuts", [](System &s) {
+    std::vector<std::vector<double>> out;
+    for (int d = 0; d < 3; ++d)
+      out.push_back(s.cells().domain_cuts(s.box(), d));
+    return out;
+  });
+  cls.def("set_domain_cuts", [](System &s, std::vector<std::vector<double>> const &cuts) {
+    if (cuts.size() != 3)
+      value_error("parameter 'domain_cuts' must have three entries (one per axis)");
+    s.set_domain_cuts({cuts[0], cuts[1], cuts[2]});
+  });
+  cls.def("balance_domains", [](System &s, int by, double damping, double threshold) {
+    auto const r = s.balance_domains(static_cast<System::BalanceBy>(by), damping, threshold);
+    return std::make_pair(r.imbalance, r.moved);
+  });
+  cls.def("set_balance", [](System &s, int every, int by, double damping, double threshold) {
+    s.set_balance({every, static_cast<System::BalanceBy>(by), damping, threshold});
+  });
+  cls.def("balance_settings", [](System &s) {
+    auto const &b = s.balance_settings();
+    return std::make_tuple(b.every, static_cast<int>(b.by), b.damping, b.threshold);
+  });
+  cls.def("n_balances", &System::n_balances);
   // ids this rank owns (not collective; for tests and diagnostics)
   cls.def("local_ids", [](System &s) { return s.particles().ids_sorted(); });
   cls.def("n_cells", [](System &s) { return s.cells().n_cells(); });

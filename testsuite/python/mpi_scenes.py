@@ -1027,9 +1027,158 @@ def scene_srd_h5md():
     return s, _srd_state(s)
 
 
+# --- domain cuts and load balance (test_mpi_balance.py) ---------------------
+
+def _uneven_cuts(s):
+    """Fixed uneven domain cuts along every split axis: plane j of p at
+    (j / p)^1.4 of the box (narrowest domain first)."""
+    grid = s.cell_system.node_grid
+    cuts = []
+    for d, p in enumerate(grid):
+        L = float(s.box_l[d])
+        cuts.append(None if p == 1 else [L * (j / p) ** 1.4 for j in range(p + 1)])
+    return cuts
+
+
+def _rank_state(s):
+    """This rank's locals and its domain, and every particle's position
+    (a collective read: the same on every rank)."""
+    parts = s.part.all()
+    ids = np.array(s.cell_system.local_ids(), dtype=int)
+    lo, size = s.cell_system.local_domain()
+    cuts = s.cell_system.domain_cuts
+    return dict(local_ids=ids, all_ids=parts.id, all_pos=parts.pos, dom_lo=np.asarray(lo), dom_size=np.asarray(size),
+                grid=np.array(s.cell_system.node_grid), cuts_x=cuts[0], cuts_y=cuts[1], cuts_z=cuts[2])
+
+
+def _traj(s):
+    parts = s.part.all()
+    return dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f)
+
+
+def scene_cuts_marble():
+    """scene_marble's fluid and marble on uneven domains set by hand."""
+    s = fluid(8.0)
+    s.cell_system.domain_cuts = _uneven_cuts(s)
+    col = marble.colloids.add_marble(s, pos=[8 / 2 - 0.3, 4.0, 4.0], radius=2.0, gamma=5.0)
+    col.v = [0.3, 0.1, 0.0]
+    s.integrator.run(0)
+    at_start = _rank_state(s)
+    s.integrator.run(100)
+    out = _traj(s)
+    out.update(cpos=col.pos, comega=col.omega_lab, energy=s.analysis.energy()["total"])
+    out["rank_state"] = at_start
+    return s, out
+
+
+def _crowded_fluid(L=8.0, seed=6):
+    """A DPD fluid with two thirds of its particles in the lowest third along x."""
+    rng = np.random.default_rng(seed)
+    s = marble.System(box_l=[L, L, L])
+    s.time_step = 0.01
+    s.cell_system.skin = 0.4
+    n = int(3 * L**3)
+    pos = rng.uniform(0, L, (n, 3))
+    pos[: 2 * n // 3, 0] *= 1 / 3
+    s.part.add(pos=pos, v=rng.normal(size=(n, 3)))
+    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
+    s.thermostat.set_dpd(kT=1.0, seed=3)
+    return s
+
+
+def scene_balance_particles():
+    """balance(by="particles") of a crowded fluid, then 50 steps."""
+    s = _crowded_fluid()
+    s.integrator.run(0)
+    before = len(s.cell_system.local_ids())
+    res = s.cell_system.balance(by="particles")
+    s.integrator.run(0)
+    state = _rank_state(s)
+    state["n_before"] = np.array(before)
+    s.integrator.run(50)
+    out = _traj(s)
+    out.update(imbalance=np.array(res["imbalance"]), moved=np.array(res["moved"]), rank_state=state)
+    return s, out
+
+
+def scene_balance_auto(shardlow=False):
+    """The crowded fluid with the automatic balance by time every 10 steps
+    (threshold 0: every balance moves the planes); velocity Verlet, or
+    Shardlow (whose sweep order, and so its trajectory, depends on the
+    decomposition: its momentum and the domains' width are checked)."""
+    s = _crowded_fluid(seed=7)
+    if shardlow:
+        s.time_step = 0.04
+        s.integrator.set_shardlow()
+    s.cell_system.set_load_balance(10, by="time", damping=0.5, threshold=0.0)
+    p0 = s.analysis.linear_momentum()
+    s.integrator.run(60)
+    s.integrator.run(0)
+    out = _traj(s)
+    out.update(n_balances=np.array(s.cell_system.get_load_balance()["n_balances"]), rank_state=_rank_state(s),
+               dp=np.asarray(s.analysis.linear_momentum()) - np.asarray(p0))
+    return s, out
+
+
+def scene_balance_auto_shardlow():
+    return scene_balance_auto(shardlow=True)
+
+
+def scene_cuts_bad():
+    """Bad cuts on N >= 2 ranks: each a ValueError, nothing changed; then
+    Shardlow refused on a domain narrower than twice the pair range."""
+    s = fluid(8.0)
+    L, p = 8.0, s.cell_system.node_grid[0]
+    good = [L * j / p for j in range(p + 1)]
+    msgs = []
+    for bad in ([list(np.linspace(0, L, p + 2)), None, None],  # one position too many
+                [[0.0] * p + [L], None, None],  # an empty domain
+                [[0.5] + good[1:], None, None],  # not from 0
+                [good[:-1] + [L + 1], None, None],  # not to box_l
+                [good, None],  # two entries
+                "x"):
+        try:
+            s.cell_system.domain_cuts = bad
+            msgs.append("no error")
+        except ValueError as e:
+            msgs.append(str(e))
+    unchanged = np.array([np.asarray(c) for c in s.cell_system.domain_cuts][0])
+    s.cell_system.domain_cuts = [[0.0, 2.0] + [2.0 + (L - 2.0) * j / (p - 1) for j in range(1, p)], None, None]
+    s.integrator.set_shardlow()
+    msgs.append(_run_error(s, 1))
+    return s, dict(msgs=np.array(msgs), unchanged=unchanged)
+
+
+def _with_uneven_cuts():
+    """Make every integrator.run() of this process use _uneven_cuts' planes
+    (set again where the node grid changed, e.g. when Lees-Edwards turned on):
+    the scenes run as "cuts_of_SCENE" on uneven domains."""
+    import marble.integrate
+    run = marble.integrate.Integrator.run
+
+    def run_on_uneven_domains(self, *args, **kwargs):
+        core = self._core
+        grid, box_l = core.node_grid(), core.box_l
+        want = [[0.0, float(box_l[d])] if p == 1 else [float(box_l[d]) * (j / p) ** 1.4 for j in range(p + 1)]
+                for d, p in enumerate(grid)]
+        if [list(c) for c in core.domain_cuts()] != want:
+            core.set_domain_cuts([c if len(c) > 2 else [] for c in want])
+        return run(self, *args, **kwargs)
+
+    marble.integrate.Integrator.run = run_on_uneven_domains
+
+
 if __name__ == "__main__":
     name, path = sys.argv[1], sys.argv[2]
+    if name.startswith("cuts_of_"):
+        name = name[len("cuts_of_"):]
+        _with_uneven_cuts()
     system, data = globals()["scene_" + name]()
+    for axis, cuts in zip("xyz", system.cell_system.domain_cuts):
+        data["domain_cuts_" + axis] = cuts
     data["ranks"] = np.array(marble.mpi_size())
+    rank_state = data.pop("rank_state", None)
+    if rank_state is not None:  # every rank's own state, in a file of its own
+        np.savez(f"{path}.rank{marble.mpi_rank()}.npz", **rank_state)
     if marble.mpi_rank() == 0:
         np.savez(path, **data)

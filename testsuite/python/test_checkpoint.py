@@ -279,9 +279,9 @@ def test_older_format_version_refused():
     blob = bytearray(s._core.get_checkpoint_state())
     before = bytes(blob)
     version_at = 8  # after the 8-byte magic
-    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 5
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 6
     blob[version_at:version_at + 4] = (2).to_bytes(4, "little")
-    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 5"):
+    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 6"):
         s._core.set_checkpoint_state(bytes(blob))
     assert s._core.get_checkpoint_state() == before
 
@@ -303,6 +303,9 @@ def _as_version_3(blob):
     n_g, = struct.unpack_from("<Q", p, at)
     g = p[at + 8:at + 8 + n_g]
     rest = p[at + 8 + n_g:]
+    # format 6 appended the domain planes (three u64 counts and doubles; equal domains here: empty)
+    assert g[len(g) - 24:] == bytes(24)
+    g = g[:len(g) - 24]
     # format 5 appended the integrator's substeps (i32; no Lees-Edwards tail here)
     assert struct.unpack_from("<i", g, len(g) - 4)[0] == 1
     g = g[:len(g) - 4]

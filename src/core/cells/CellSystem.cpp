@@ -162,6 +162,70 @@ std::pair<int, int> grown_domains(double x, double r, double dl, int p, bool per
 }
 } // namespace
 
+int CellSystem::AxisSplit::coord(double x) const {
+  if (uniform)
+    return axis_coord(x, dl, p);
+  // the number of inner cuts at or below x (NaN: the last domain)
+  auto const first = cut.begin() + 1, last = cut.begin() + p;
+  return static_cast<int>(std::upper_bound(first, last, x) - first);
+}
+
+std::pair<int, int> CellSystem::AxisSplit::grown(double x, double r, bool periodic) const {
+  if (uniform)
+    return grown_domains(x, r, dl, p, periodic);
+  // as grown_domains: a holds x - r, b holds x + r, -1 below the box and p
+  // at or above it along a periodic axis (the images do the rest)
+  int a = x - r >= L ? p : coord(x - r);
+  int b = x + r < 0. ? -1 : coord(x + r);
+  if (!periodic) {
+    a = std::clamp(a, 0, p - 1);
+    b = std::clamp(b, 0, p - 1);
+  }
+  return {std::max(a, 0), std::min(b, p - 1)};
+}
+
+CellSystem::AxisSplit CellSystem::axis_split(BoxGeometry const &box, std::array<int, 3> const &g, int d) const {
+  AxisSplit a;
+  a.p = g[d];
+  a.L = box.length()[d];
+  a.dl = a.L / a.p;
+  auto const &f = m_fractions[static_cast<std::size_t>(d)];
+  a.uniform = a.p == 1 || f.size() != static_cast<std::size_t>(a.p) + 1;
+  if (!a.uniform) {
+    a.cut.resize(f.size());
+    for (int c = 0; c <= a.p; ++c)
+      a.cut[static_cast<std::size_t>(c)] = c == 0 ? 0. : c == a.p ? a.L : f[static_cast<std::size_t>(c)] * a.L;
+  }
+  return a;
+}
+
+std::vector<double> CellSystem::domain_cuts(BoxGeometry const &box, int d) const {
+  auto const g = node_grid(box);
+  auto const a = axis_split(box, g, d);
+  std::vector<double> out(static_cast<std::size_t>(a.p) + 1);
+  for (int c = 0; c <= a.p; ++c)
+    out[static_cast<std::size_t>(c)] = c == a.p ? a.L : a.lo(c);
+  return out;
+}
+
+double CellSystem::narrowest_domain(BoxGeometry const &box) const {
+  auto const g = node_grid(box);
+  double w = std::numeric_limits<double>::infinity();
+  for (int d = 0; d < 3; ++d) {
+    auto const c = domain_cuts(box, d);
+    for (std::size_t k = 0; k + 1 < c.size(); ++k)
+      w = std::min(w, c[k + 1] - c[k]);
+  }
+  (void)g;
+  return w;
+}
+
+int CellSystem::axis_coord_of(double x, int d, BoxGeometry const &box) const {
+  if (!parallel())
+    return 0;
+  return axis_split(box, node_grid(box), d).coord(x);
+}
+
 // The neighbour ranks: q is one if along every axis some periodic image of
 // q's domain (none along an open axis) is adjacent to this rank's domain or
 // at most @p radius from it: the node-coordinate offset k = |q + n grid - me|
@@ -178,21 +242,37 @@ void CellSystem::update_neighbour_ranks(BoxGeometry const &box, double radius) {
                                   static_cast<double>(me), radius,
                                   static_cast<double>(box.periodic(0) + 2 * box.periodic(1) + 4 * box.periodic(2)),
                                   static_cast<double>(g[0]) * (size + 1) + g[1]}; // (the grid: Lees-Edwards changes it)
-  if (key == m_nbr_key && !m_is_nbr.empty())
+  if (key == m_nbr_key && m_nbr_fversion == m_fractions_version && !m_is_nbr.empty())
     return;
   m_nbr_key = key;
+  m_nbr_fversion = m_fractions_version;
   auto const c = coords_of(g, me);
   std::array<std::vector<char>, 3> near;
   for (int d = 0; d < 3; ++d) {
+    auto const ax = axis_split(box, g, d);
     double const dl = L[d] / g[d];
     double const lim = radius * (1. + 1e-6) + 1e-9 * L[d];
     int const nimg = box.periodic(d) ? static_cast<int>(std::ceil(radius / L[d])) + 1 : 0;
     near[d].assign(static_cast<std::size_t>(g[d]), 0);
     for (int qd = 0; qd < g[d]; ++qd)
       for (int n = -nimg; n <= nimg; ++n) {
-        int const k = std::abs(qd + n * g[d] - c[d]);
-        if (k <= 1 || (k - 1) * dl <= lim)
+        int const j = qd + n * g[d], k = std::abs(j - c[d]);
+        if (k <= 1) {
           near[d][qd] = 1;
+        } else if (ax.uniform) {
+          if ((k - 1) * dl <= lim)
+            near[d][qd] = 1;
+        } else {
+          // the gap between the lower domain (its coordinate lo, image 0)
+          // and the upper one (hi, m box lengths up): the same expression on
+          // both ranks of the pair, so the test stays symmetric bit for bit
+          int const lo = j > c[d] ? c[d] : qd, hi = j > c[d] ? qd : c[d];
+          int const m = j > c[d] ? n : -n;
+          double const gap = (ax.cut[static_cast<std::size_t>(hi)] - ax.cut[static_cast<std::size_t>(lo) + 1]) +
+                             static_cast<double>(m) * L[d];
+          if (gap <= lim)
+            near[d][qd] = 1;
+        }
       }
   }
   m_nbrs.clear();
@@ -220,7 +300,7 @@ int CellSystem::owner_rank(Vector3d const &pos, BoxGeometry const &box) const {
   auto const g = node_grid(box);
   std::array<int, 3> c{};
   for (int d = 0; d < 3; ++d)
-    c[d] = axis_coord(pos[d], box.length()[d] / g[d], g[d]);
+    c[d] = axis_split(box, g, d).coord(pos[d]);
   return rank_of(g, c);
 }
 
@@ -232,8 +312,14 @@ std::pair<Vector3d, Vector3d> CellSystem::local_domain(BoxGeometry const &box) c
   auto const c = coords_of(g, m_comm->rank());
   Vector3d lo, len;
   for (int d = 0; d < 3; ++d) {
-    len[d] = L[d] / g[d];
-    lo[d] = c[d] * len[d];
+    auto const ax = axis_split(box, g, d);
+    if (ax.uniform) {
+      len[d] = L[d] / g[d];
+      lo[d] = c[d] * len[d];
+    } else {
+      lo[d] = ax.lo(c[d]);
+      len[d] = ax.cut[static_cast<std::size_t>(c[d]) + 1] - lo[d];
+    }
   }
   return {lo, len};
 }
@@ -287,11 +373,13 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
   // a particle well inside this rank's domain (a margin far above the
   // round-off of x / dl) stays: six comparisons instead of three divisions
   auto const me_at = coords_of(g, me);
+  std::array<AxisSplit, 3> const ax{axis_split(box, g, 0), axis_split(box, g, 1), axis_split(box, g, 2)};
   double in_lo[3], in_hi[3];
   for (int d = 0; d < 3; ++d) {
     double const dl = L[d] / g[d], margin = 1e-9 * (L[d] + 1.);
-    in_lo[d] = me_at[d] == 0 ? -std::numeric_limits<double>::infinity() : me_at[d] * dl + margin;
-    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity() : (me_at[d] + 1) * dl - margin;
+    in_lo[d] = me_at[d] == 0 ? -std::numeric_limits<double>::infinity() : ax[d].lo(me_at[d]) + margin;
+    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity()
+                                    : (ax[d].uniform ? (me_at[d] + 1) * dl : ax[d].lo(me_at[d] + 1)) - margin;
   }
   for (int i = 0; i < ps.n_local(); ++i) {
     Vector3d const &x = ps.pos[i];
@@ -300,7 +388,7 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
       continue;
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
-      c[d] = axis_coord(ps.pos[i][d], L[d] / g[d], g[d]);
+      c[d] = ax[d].coord(ps.pos[i][d]);
     int const r = rank_of(g, c);
     if (r == me)
       continue;
@@ -411,6 +499,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
     if (2 * nimg[d] + 1 > kMaxShiftsPerAxis)
       throw Utils::RuntimeError("internal error: too many periodic images along axis " + std::to_string(d));
   std::array<int, 3> const me_at = coords_of(g, me);
+  std::array<AxisSplit, 3> const split{axis_split(box, g, 0), axis_split(box, g, 1), axis_split(box, g, 2)};
   Vector3d dl;
   for (int d = 0; d < 3; ++d)
     dl[d] = L[d] / g[d];
@@ -425,8 +514,8 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   for (int d = 0; d < 3; ++d) {
     double const margin = 1e-9 * (L[d] + m_range);
     bool const edge = box.periodic(d) || g[d] > 1;
-    double const lo = par ? coords_of(g, me)[d] * dl[d] : 0.;
-    double const hi = par ? lo + dl[d] : L[d];
+    double const lo = par ? split[d].lo(me_at[d]) : 0.;
+    double const hi = par ? (split[d].uniform ? lo + dl[d] : split[d].lo(me_at[d] + 1)) : L[d];
     in_lo[d] = edge ? lo + m_range + margin : -std::numeric_limits<double>::infinity();
     in_hi[d] = edge ? hi - m_range - margin : std::numeric_limits<double>::infinity();
   }
@@ -459,7 +548,7 @@ void CellSystem::make_ghosts(ParticleStore &ps, BoxGeometry const &box) {
         double const sh = s * L[d];
         if (s != 0 && (p[d] + sh < -r || p[d] + sh >= L[d] + r))
           continue;
-        auto const [a, b] = grown_domains(p[d] + sh, r, dl[d], g[d], box.periodic(d));
+        auto const [a, b] = split[d].grown(p[d] + sh, r, box.periodic(d));
         if (a > b)
           continue;
         ax[d][n_ax[d]] = s, alo[d][n_ax[d]] = a, ahi[d][n_ax[d]] = b;
@@ -514,7 +603,9 @@ void CellSystem::mark_boundary_sides(ParticleStore const &ps, BoxGeometry const 
     return;
   m_boundary_axis = a;
   double const dl = box.length()[a] / g[a];
-  double const mid = (coords_at(g, m_comm->rank())[a] + 0.5) * dl;
+  auto const ax = axis_split(box, g, a);
+  int const ca = coords_at(g, m_comm->rank())[a];
+  double const mid = ax.uniform ? (ca + 0.5) * dl : 0.5 * (ax.lo(ca) + ax.lo(ca + 1));
   int const nl = ps.n_local(), n = ps.size();
   m_boundary_side.assign(static_cast<std::size_t>(n), 0);
   auto side = [&](int k) -> char { return replicated(ps.type[k]) ? 3 : (ps.pos[k][a] < mid ? 1 : 2); };
@@ -646,6 +737,7 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
     throw Utils::RuntimeError("internal error: a Lees-Edwards node grid splits the shear plane");
   auto const me_at = coords_of(g, me);
   double const dl = L[dt] / g[dt];
+  auto const ax_t = axis_split(box, g, dt);
   int const n = ps.n_local();
   double const off = box.le_offset_wrapped();
   m_le_offset_at_build = m_le.pos_offset;
@@ -655,7 +747,8 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
   int const nimg_t = box.periodic(dt) ? static_cast<int>(std::ceil(r_max / L[dt])) : 0;
   // the faces along t: the domain's (the box's on one rank)
   bool const edge_t = box.periodic(dt) || g[dt] > 1;
-  double const lo_t = me_at[dt] * dl, hi_t = me_at[dt] == g[dt] - 1 ? L[dt] : lo_t + dl;
+  double const lo_t = ax_t.lo(me_at[dt]);
+  double const hi_t = me_at[dt] == g[dt] - 1 ? L[dt] : ax_t.uniform ? lo_t + dl : ax_t.lo(me_at[dt] + 1);
   for (int i = 0; i < n; ++i) {
     Vector3d const p = ps.pos[i];
     bool const w = any_wide && wide(ps.type[i]);
@@ -693,7 +786,7 @@ void CellSystem::make_le_ghosts(ParticleStore &ps, BoxGeometry const &box) {
           sh[ds] = k * off + m * L[ds];
           sh[dt] = l * L[dt];
           // the ranks along t whose domain, grown by the range, holds the image
-          auto const [c_lo, c_hi] = grown_domains(p[dt] + sh[dt], r, dl, g[dt], box.periodic(dt));
+          auto const [c_lo, c_hi] = ax_t.grown(p[dt] + sh[dt], r, box.periodic(dt));
           bool const nonzero = k != 0 || m != 0 || l != 0;
           for (int c = c_lo; c <= c_hi; ++c) {
             std::array<int, 3> dest_at{0, 0, 0};

@@ -229,6 +229,45 @@ public:
   static int axis_coord_at(double x, double dl, int p);
   /** Rank owning the (folded) position @p pos. */
   int owner_rank(Utils::Vector3d const &pos, BoxGeometry const &box) const;
+  /** Node coordinate along axis @p d of the coordinate @p x (the rule of
+   * owner_rank, the domain cuts included). */
+  int axis_coord_of(double x, int d, BoxGeometry const &box) const;
+
+  // --- domain cuts (load balance: doc/parallel.md "Load balance") ---
+  /** The domains' boundaries along each axis as fractions of the box
+   * length: for axis d, node_grid[d] + 1 increasing values from 0 to 1 (the
+   * domain at node coordinate c is [f[c] L, f[c + 1] L)); an axis whose
+   * entry does not have node_grid[d] + 1 values (empty: the default) is
+   * split into equal parts, with the arithmetic of the equal split (so
+   * trajectories without cuts keep every bit). The same on every rank
+   * (the caller's duty: System::set_domain_fractions checks it). Invalidates
+   * the lists. */
+  void set_domain_fractions(std::array<std::vector<double>, 3> f) {
+    m_fractions = std::move(f);
+    ++m_fractions_version;
+    invalidate();
+  }
+  std::array<std::vector<double>, 3> const &domain_fractions() const { return m_fractions; }
+  /** The boundaries along axis @p d for @p box: node_grid[d] + 1 positions
+   * from 0 to L (the equal split's c L / g where no cuts are set). */
+  std::vector<double> domain_cuts(BoxGeometry const &box, int d) const;
+  /** The narrowest domain along the split axes (the box's smallest length
+   * along an axis not split; one rank: the smallest box length). */
+  double narrowest_domain(BoxGeometry const &box) const;
+  /** One axis of the decomposition: @p p domains over [0, L), equal (the
+   * arithmetic of floor(x / dl)) or at the cuts. */
+  struct AxisSplit {
+    int p = 1;
+    double L = 1., dl = 1.;
+    bool uniform = true;
+    std::vector<double> cut; // p + 1 positions when !uniform
+    double lo(int c) const { return uniform ? c * dl : cut[static_cast<std::size_t>(c)]; }
+    /** clamp(floor(x / dl), 0, p - 1) (equal), the domain holding x (cuts) */
+    int coord(double x) const;
+    /** the node coordinates [a, b] whose domain grown by r holds x (a > b: none) */
+    std::pair<int, int> grown(double x, double r, bool periodic) const;
+  };
+  AxisSplit axis_split(BoxGeometry const &box, std::array<int, 3> const &g, int d) const;
   /** Lower corner and size of this rank's domain. */
   std::pair<Utils::Vector3d, Utils::Vector3d> local_domain(BoxGeometry const &box) const;
 
@@ -395,6 +434,9 @@ private:
   std::vector<int> m_nbrs;
   std::vector<char> m_is_nbr;               // by rank
   std::array<double, 8> m_nbr_key{};        // box, rank count and rank, radius, periodicity, node grid of m_nbrs
+  long m_nbr_fversion = -1;                 // the domain cuts' version of m_nbrs
+  std::array<std::vector<double>, 3> m_fractions; // set_domain_fractions
+  long m_fractions_version = 0;
   std::vector<std::vector<int>> m_send_index; // m_send[q][k].index, contiguous (force returns)
   // neighbour-exchange buffers by rank, kept and only grown (no refill per step)
   mutable std::vector<std::vector<std::max_align_t>> m_xsend, m_xrecv;

@@ -389,6 +389,7 @@ int System::run_md(int n_steps) {
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);
+    maybe_balance(); // (new domain cuts: the next force computation migrates)
   }
   return n_steps;
 }
@@ -718,6 +719,7 @@ int System::run_md_respa(int n_steps) {
     for (auto const &acc : m_auto_update)
       if (acc->delta_N > 0 && m_step % static_cast<std::uint64_t>(acc->delta_N) == 0)
         acc->update(*this);
+    maybe_balance(); // (new domain cuts: the next force computation migrates)
   }
   return n_steps;
 }

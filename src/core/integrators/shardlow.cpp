@@ -451,16 +451,25 @@ void check_shardlow_decomposition(System &sys) {
   double const r = std::max({cells.range(), cells.range_ll(), cells.range_ls()});
   auto const g = cells.node_grid(sys.box());
   auto const &L = sys.box().length();
-  for (int d = 0; d < 3; ++d)
-    if (g[d] > 1 && L[d] / g[d] < 2. * r)
+  for (int d = 0; d < 3; ++d) {
+    if (g[d] < 2)
+      continue;
+    // the narrowest domain along d (the equal split's L / g without domain cuts)
+    auto const cuts = cells.domain_cuts(sys.box(), d);
+    double w = L[d] / g[d];
+    if (!cells.axis_split(sys.box(), g, d).uniform)
+      for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
+        w = std::min(w, cuts[k + 1] - cuts[k]);
+    if (w < 2. * r)
       throw Utils::RuntimeError(
           "cannot integrate with the Shardlow integrator on " + std::to_string(sys.comm().size()) +
-          " MPI ranks: the domains are " + Utils::to_str(L[d] / g[d]) + " wide along axis " + std::to_string(d) +
+          " MPI ranks: the domains are " + Utils::to_str(w) + " wide along axis " + std::to_string(d) +
           " (node grid " + std::to_string(g[0]) + " x " + std::to_string(g[1]) + " x " + std::to_string(g[2]) +
           (sys.box().lees_edwards().active() ? "; Lees-Edwards splits the vorticity axis only" : "") +
           "), less than twice the pair range (cutoff + skin = " + Utils::to_str(r) +
           "), which its sweep's rounds need; use fewer ranks, a larger box or a smaller skin, or "
           "integrator.set_vv() / set_dpd_vv() (doc/parallel.md)");
+  }
 }
 
 void shardlow_sweep(System &sys) {

@@ -247,6 +247,9 @@ struct CheckpointAccess {
     std::int32_t large_range_mode = -1;
     std::vector<char> large_range_types;
     std::int32_t substeps = 1; // RESPA substeps (format version 5; 1 before)
+    // the domain planes as fractions of the box (format version 6; none before:
+    // equal domains): CellSystem::set_domain_fractions
+    std::array<std::vector<double>, 3> domain_fractions;
     // Lees-Edwards (an optional tail of the global block, written only when
     // it is on: blobs without it are unchanged)
     LeesEdwardsProtocol le;
@@ -280,6 +283,8 @@ struct CheckpointAccess {
     o.pod(static_cast<std::int32_t>(s.m_large_range_mode)); // format version 4
     o.vec(s.m_large_range_types);
     o.pod(static_cast<std::int32_t>(s.m_substeps)); // format version 5
+    for (auto const &f : s.m_cells.domain_fractions()) // format version 6
+      o.vec(f);
     if (s.m_le_protocol.kind != LeesEdwardsProtocol::Off) { // Lees-Edwards tail
       auto const &p = s.m_le_protocol;
       o.pod(static_cast<std::int32_t>(p.kind));
@@ -326,6 +331,15 @@ struct CheckpointAccess {
       if (g.substeps < 1 || g.substeps > System::max_substeps)
         corrupt("bad integrator substeps");
     }
+    if (version >= 6)
+      for (auto &f : g.domain_fractions) {
+        f = in.vec<double>();
+        bool ok = f.empty() || (f.size() >= 2 && f.size() <= 1u << 20 && f.front() == 0. && f.back() == 1.);
+        for (std::size_t k = 1; ok && k < f.size(); ++k)
+          ok = f[k] > f[k - 1];
+        if (!ok)
+          corrupt("bad domain planes of the cell system");
+      }
     if (!in.done()) { // the Lees-Edwards tail
       g.le.kind = in.pod<std::int32_t>();
       g.le_direction = in.pod<std::int32_t>();
@@ -560,6 +574,7 @@ struct CheckpointAccess {
     s.m_integrator = static_cast<IntegratorKind>(g.integrator);
     s.m_sd = g.sd;
     s.m_substeps = g.substeps;
+    s.m_cells.set_domain_fractions(g.domain_fractions); // (after set_skin: invalidates the lists again)
     s.m_dpd_in_pair_loop = g.dpd_in_pair_loop != 0;
     s.m_thermo = g.thermo;
     s.m_ia.clear();

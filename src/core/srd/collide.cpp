@@ -148,22 +148,22 @@ std::array<std::pair<double, double>, 3> Fluid::domain_box(System &s) const {
     return out;
   auto const &box = s.box();
   auto const ng = s.cells().node_grid(box);
-  auto const &L = box.length();
   int const me = comm.rank();
   auto const mc = CellSystem::coords_at(ng, me);
   for (int d = 0; d < 3; ++d) {
     if (ng[d] < 2)
       continue;
-    double const dl = L[d] / ng[d];
-    // the node coordinate of CellSystem::owner_rank, clamp(floor(x / dl)), is
-    // monotonic in x: the slab is [first x of coordinate mc, first x of mc + 1)
-    auto coord = [&](double x) { return CellSystem::axis_coord_at(x, dl, ng[d]); };
+    // the node coordinate of CellSystem::owner_rank (clamp(floor(x / dl)),
+    // or the domain cuts) is monotonic in x: the slab is [first x of
+    // coordinate mc, first x of mc + 1)
+    auto const ax = s.cells().axis_split(box, ng, d);
+    auto coord = [&](double x) { return ax.coord(x); };
     auto first_at = [&](int j) {
       if (j <= 0)
         return -inf;
       if (j >= ng[d])
         return inf;
-      double x = j * dl;
+      double x = ax.lo(j);
       while (coord(x) >= j)
         x = std::nextafter(x, -inf);
       while (coord(x) < j)
@@ -189,7 +189,6 @@ void Fluid::migrate(System &s) {
   // by the streaming step before the collision (pure fluid: fused with the
   // streaming loop, no pass of its own), else found by a scan.
   auto const ng = s.cells().node_grid(box);
-  auto const &L = box.length();
   auto const dom = domain_box(s);
   double lo[3], hi[3];
   for (int d = 0; d < 3; ++d)
@@ -204,10 +203,12 @@ void Fluid::migrate(System &s) {
     }
   }
   std::vector<std::vector<SrdRecord>> send(comm.size());
+  std::array<CellSystem::AxisSplit, 3> const ax{s.cells().axis_split(box, ng, 0), s.cells().axis_split(box, ng, 1),
+                                                 s.cells().axis_split(box, ng, 2)};
   for (int i : m_leave) {
     std::array<int, 3> c{};
     for (int d = 0; d < 3; ++d)
-      c[d] = CellSystem::axis_coord_at(pos[i][d], L[d] / ng[d], ng[d]);
+      c[d] = ax[d].coord(pos[i][d]);
     send[CellSystem::rank_at(ng, c)].push_back({pos[i], v[i], id[i], type[i]});
   }
   auto const recv = comm.alltoallv(send);
@@ -396,7 +397,8 @@ void Fluid::collide(System &s) {
       auto &beg = par.beg[d], &lst = par.lst[d];
       auto &mine = par.mine[d], &multi = par.multi[d];
       beg.assign(1, 0), lst.clear(), mine.assign(ldim[d], 0), multi.assign(ldim[d], 0);
-      double const dl = L[d] / ng[d], eps = 1e-9 * a0;
+      double const eps = 1e-9 * a0;
+      auto const ax = s.cells().axis_split(box, ng, d); // (equal split: clamp(floor(x / dl)))
       for (int l = 0; l < ldim[d]; ++l) {
         int const k = glob[d][l];
         std::size_t const first = lst.size();
@@ -405,8 +407,7 @@ void Fluid::collide(System &s) {
           double const hi = std::min(L[d], shift[d] + (r + 1) * a0 + eps);
           if (!(hi > lo))
             return;
-          int const j0 = std::clamp(static_cast<int>(std::floor(lo / dl)), 0, ng[d] - 1);
-          int const j1 = std::clamp(static_cast<int>(std::floor(hi / dl)), 0, ng[d] - 1);
+          int const j0 = ax.coord(lo), j1 = ax.coord(hi);
           for (int j = j0; j <= j1; ++j)
             lst.push_back(j);
         };

@@ -293,6 +293,38 @@ public:
   /** The Shardlow sweep's buffers on several ranks (scratch). */
   ShardlowBuffers &shardlow_buffers() { return m_shardlow_buffers; }
 
+  // --- load balance (system/balance.cpp; doc/parallel.md "Load balance") ---
+  enum class BalanceBy { Particles = 0, Time = 1 };
+  struct BalanceSettings {
+    int every = 0;          ///< steps between automatic balances during run() (0: none)
+    BalanceBy by = BalanceBy::Time;
+    double damping = 1.;    ///< fraction of the way to the computed cuts, in (0, 1]
+    double threshold = 0.05; ///< move only if max cost / mean cost exceeds 1 + threshold
+  };
+  struct BalanceResult {
+    double imbalance = 1.; ///< max / mean of the ranks' cost before the call
+    bool moved = false;    ///< whether the cuts were changed
+  };
+  /** Domain boundaries (cells/CellSystem.hpp set_domain_fractions): for each
+   * axis node_grid[d] + 1 increasing positions from 0 to L, or empty (the
+   * equal split). The caller checks them (the script interface). Identical on
+   * every rank. Invalidates the lists (the next force computation migrates). */
+  void set_domain_cuts(std::array<std::vector<double>, 3> const &cuts);
+  /** Move the domain cuts along every split axis so that each slab of ranks
+   * gets a share of the particles proportional to its measured speed
+   * (particles per second of its own work since the last balance, the waits
+   * inside MPI calls left out: @p by Time) or an equal share (@p by
+   * Particles). Collective; on one rank nothing. */
+  BalanceResult balance_domains(BalanceBy by, double damping, double threshold);
+  void set_balance(BalanceSettings const &b) {
+    m_balance = b;
+    reset_balance_clock();
+  }
+  BalanceSettings const &balance_settings() const { return m_balance; }
+  long n_balances() const { return m_n_balances; }
+  /** Start the measurement of the ranks' work for the next balance. Not collective. */
+  void reset_balance_clock();
+
 private:
   /** compute_forces(@p with_thermostat), then a collective check that every
    * local force and torque is finite (a RuntimeError naming the particle and
@@ -375,6 +407,15 @@ private:
   std::vector<Utils::Vector3d> m_respa_end_pos; // respa_member_substeps: outside particles' positions after the substeps
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
+  BalanceSettings m_balance;
+  double m_balance_wall = -1.; // reset_balance_clock: the wall clock and
+  double m_balance_mpi = 0.;   // the wall time inside MPI calls then
+  long m_n_balances = 0;
+  /** run_md's hook: balance_domains when m_balance.every divides the step. */
+  void maybe_balance() {
+    if (m_balance.every > 0 && m_step % static_cast<std::uint64_t>(m_balance.every) == 0)
+      balance_domains(m_balance.by, m_balance.damping, m_balance.threshold);
+  }
   ShardlowBuffers m_shardlow_buffers;
   /** Configure the cell system's large-range types for a rebuild; returns
    * the range of the solvent grid (the small types' cutoff). Collective. */

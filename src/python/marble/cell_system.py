@@ -133,8 +133,8 @@ class CellSystem:
 
     @property
     def node_grid(self):
-        """MPI ranks per axis (px, py, pz): the box is cut into px*py*pz equal
-        domains, one per rank, chosen to minimise the domain surface (ties:
+        """MPI ranks per axis (px, py, pz): the box is cut into px*py*pz
+        domains, one per rank (equal unless :attr:`domain_cuts` moved them), chosen to minimise the domain surface (ties:
         x first); with Lees-Edwards boundaries only the vorticity axis is
         split, e.g. (1, 1, P) for shear along x across y. (1, 1, 1) without
         mpiexec. Read-only."""
@@ -144,6 +144,116 @@ class CellSystem:
         """(lower corner, size) of this rank's domain (not collective)."""
         lo, size = self._system._core.local_domain()
         return lo, size
+
+    @property
+    def domain_cuts(self):
+        """The domains' boundaries along each axis: a tuple of three arrays,
+        ``node_grid[d] + 1`` increasing positions from 0 to ``box_l[d]`` (the
+        domain at node coordinate c along axis d is [cuts[c], cuts[c + 1])).
+        By default the box is split into equal parts. Set it to move the
+        boundaries by hand (a list of three entries, each ``None`` for the
+        equal split or the positions as above), or ``None`` for the equal
+        split along every axis; :meth:`balance` and
+        :meth:`set_load_balance` move them from the measured work. Setting
+        it is collective (every rank the same values); the particles move to
+        their new ranks at the next force computation. Without mpiexec the
+        single domain is the box. Part of the core's checkpoint (doc/io.md;
+        doc/parallel.md, "Load balance")."""
+        import numpy as np
+        return tuple(np.asarray(c, dtype=float) for c in self._system._core.domain_cuts())
+
+    @domain_cuts.setter
+    def domain_cuts(self, value):
+        import numpy as np
+        core = self._system._core
+        grid = core.node_grid()
+        box_l = [float(x) for x in core.box_l]
+        if value is None:
+            core.set_domain_cuts([[], [], []])
+            return
+        if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+            raise ValueError(f"parameter 'domain_cuts' must be None or a list of three entries (one per axis, "
+                             f"each None or node_grid[d] + 1 positions from 0 to box_l[d]), got {value!r}")
+        cuts = []
+        for d, c in enumerate(value):
+            if c is None:
+                cuts.append([])
+                continue
+            try:
+                a = np.asarray(c, dtype=float).ravel()
+            except (TypeError, ValueError):
+                raise ValueError(f"parameter 'domain_cuts[{d}]' must be None or a list of numbers, "
+                                 f"got {c!r}") from None
+            L, p = box_l[d], int(grid[d])
+            tol = 1e-12 * L
+            if a.size != p + 1:
+                raise ValueError(f"parameter 'domain_cuts[{d}]' must have node_grid[{d}] + 1 = {p + 1} "
+                                 f"positions (node grid {tuple(grid)}), got {a.size}")
+            if not np.all(np.isfinite(a)) or abs(a[0]) > tol or abs(a[-1] - L) > tol:
+                raise ValueError(f"parameter 'domain_cuts[{d}]' must run from 0 to box_l[{d}] = {L}, "
+                                 f"got {a.tolist()}")
+            if p > 1 and not np.all(np.diff(a) > 0):
+                raise ValueError(f"parameter 'domain_cuts[{d}]' must be strictly increasing (every domain "
+                                 f"wider than 0), got {a.tolist()}")
+            a[0], a[-1] = 0.0, L
+            cuts.append(a.tolist() if p > 1 else [])
+        core.set_domain_cuts(cuts)
+
+    _BALANCE_BY = {"particles": 0, "time": 1}
+
+    def _balance_args(self, by, damping, threshold):
+        if by not in self._BALANCE_BY:
+            raise ValueError(f"parameter 'by' must be 'time' or 'particles', got {by!r}")
+        for name, x, lo, hi, lo_open in (("damping", damping, 0.0, 1.0, True),
+                                         ("threshold", threshold, 0.0, float("inf"), False)):
+            if isinstance(x, bool) or not isinstance(x, numbers.Real) or not (
+                    (x > lo if lo_open else x >= lo) and x <= hi):
+                rng = f"({lo}, {hi}]" if lo_open else f"[{lo}, inf)"
+                raise ValueError(f"parameter '{name}' must be a number in {rng}, got {x!r}")
+        return self._BALANCE_BY[by], float(damping), float(threshold)
+
+    def balance(self, by="time", damping=1.0, threshold=0.05):
+        """Move the domain boundaries once so that every slab of ranks along a
+        split axis gets a share of the particles proportional to its speed
+        (as LAMMPS's ``balance`` command with ``shift``):
+
+        - ``by="time"``: a slab's speed is its particles per second of its
+          ranks' own work (wall time less the time inside MPI calls, where a
+          rank waits for the others) since the last balance, the last
+          :meth:`set_load_balance` or the system's creation: a rank on a
+          slower core or with costlier particles gets fewer. The boundaries
+          then depend on the machine's timing, so the last bits of a
+          trajectory are not reproducible from run to run; the physics is
+          the same on any decomposition (doc/parallel.md).
+        - ``by="particles"``: equal particle counts (deterministic).
+
+        ``damping`` in (0, 1]: the fraction of the way to the computed
+        boundaries; ``threshold`` >= 0: nothing moves unless the largest
+        rank's cost exceeds the mean by more than this fraction. Domains stay
+        at least one pair range (cutoff + skin; twice that under Shardlow)
+        wide. Collective. Returns a dict: ``imbalance`` (largest rank cost /
+        mean, before), ``moved`` and the ``domain_cuts`` after."""
+        b, damping, threshold = self._balance_args(by, damping, threshold)
+        imbalance, moved = self._system._core.balance_domains(b, damping, threshold)
+        return {"imbalance": float(imbalance), "moved": bool(moved), "domain_cuts": self.domain_cuts}
+
+    def set_load_balance(self, every, by="time", damping=0.5, threshold=0.05):
+        """Balance automatically during ``integrator.run()``: :meth:`balance`
+        with these parameters after every ``every``-th step (as LAMMPS's
+        ``fix balance``); ``every=0`` turns it off. Collective. A setting of
+        the run, not of the state: not in a checkpoint."""
+        if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 0:
+            raise ValueError(f"parameter 'every' must be an integer >= 0 (0: off), got {every!r}")
+        b, damping, threshold = self._balance_args(by, damping, threshold)
+        self._system._core.set_balance(int(every), b, damping, threshold)
+
+    def get_load_balance(self):
+        """The automatic balance's parameters and the number of balances that
+        moved the boundaries so far (a dict)."""
+        every, by, damping, threshold = self._system._core.balance_settings()
+        by_name = {v: k for k, v in self._BALANCE_BY.items()}[by]
+        return {"every": every, "by": by_name, "damping": damping, "threshold": threshold,
+                "n_balances": self._system._core.n_balances()}
 
     def local_ids(self):
         """Ids of the particles this rank owns after the last rebuild (not collective)."""
@@ -196,6 +306,7 @@ class CellSystem:
         return {"type": "RegularDecomposition", "skin": self.skin, "effective_skin": core.skin,
                 "n_cells": list(core.n_cells()), "max_cut": core.max_cut(),
                 "verlet_rebuilds": core.n_rebuilds(), "node_grid": list(core.node_grid()),
+                "domain_cuts": [list(c) for c in core.domain_cuts()],
                 **self._large_range_state()}
 
     def _large_range_state(self):
