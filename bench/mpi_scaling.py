@@ -4,13 +4,21 @@ boxes L = 20 and 40 on 1 and 2 MPI ranks.
 
 Run:  build/pymarble bench/mpi_scaling.py [--quick] [--ranks 1 2] [--sizes 40] [--name NAME] [--out DIR]
                                           [--bind-to none|core] [--integrator vv|shardlow|shardlow_marble]
-                                          [--shear RATE]
+                                          [--shear RATE] [--balance EVERY]
 
 (--integrator shardlow: the same fluid under Shardlow at dt = 0.04, on several
 ranks since session 21; shardlow_marble: with the paper's marble colloid (R = 2,
 tunable slip, add_marble) at the box centre, on several ranks since session 22.
 --shear RATE: Lees-Edwards shear along x across y at that rate (the fluid
 only; several ranks since session 23: the node grid splits z alone).
+--balance EVERY: every multi-rank launch is run twice, interleaved, plain and
+with the automatic load balance by measured work every EVERY steps
+(cell_system.set_load_balance(EVERY, by="time", damping=0.5, threshold=0.02),
+after a settling run of 4 EVERY steps), reported as "N+balance" (session 27);
+--balance-by particles or pairs: by particle counts, or by particles weighted
+by 1 + their listed pairs, instead. --crowded: two thirds of
+the particles start in the lowest third of the box along x (the split axis),
+an inhomogeneous load.
 --bind-to: mpiexec's process binding; default none. Session 21 alternated the
 two on an idle 2-core machine: E 0.842 unbound, 0.844 bound, doc/parallel.md.)
 
@@ -60,14 +68,17 @@ def time_step(integrator):
     return 0.04 if integrator.startswith("shardlow") else 0.01
 
 
-def worker(L, steps, rounds, out, integrator="vv", shear=0.0, balance=0):
+def worker(L, steps, rounds, out, integrator="vv", shear=0.0, balance=0, balance_by="time", crowded=False):
     import marble
     rng = np.random.default_rng(7)
     n = int(round(3.0 * L**3))
     s = marble.System(box_l=[L, L, L])
     s.time_step = time_step(integrator)
     s.cell_system.skin = 0.4
-    s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
+    pos = rng.random((n, 3)) * L
+    if crowded:  # two thirds of the particles in the lowest third along x (the split axis)
+        pos[: 2 * n // 3, 0] /= 3.0
+    s.part.add(pos=pos, v=rng.normal(size=(n, 3)))
     s.thermostat.set_dpd(kT=1.0, seed=7)
     s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=5.0, k=1.0, r_cut=1.0)
     if integrator == "shardlow_marble":
@@ -86,7 +97,7 @@ def worker(L, steps, rounds, out, integrator="vv", shear=0.0, balance=0):
     if balance > 0:
         # the automatic balance by measured work (doc/parallel.md "Load balance"):
         # every `balance` steps, half way to the computed planes; a settling run first
-        s.cell_system.set_load_balance(balance, by="time", damping=0.5, threshold=0.02)
+        s.cell_system.set_load_balance(balance, by=balance_by, damping=0.5, threshold=0.02)
         s.integrator.run(4 * balance)
     core = s._core
     wall, cpu, comm_cpu, comm_wall, comm_kinds = [], [], [], [], []
@@ -142,14 +153,16 @@ def others_share(c0, c1):
     return others / cap, (c1["steal"] - c0["steal"]) / cap
 
 
-def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0, balance=0):
+def launch(ranks, L, steps, rounds, bind="none", integrator="vv", shear=0.0, balance=0, balance_by="time",
+           crowded=False):
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "r.json")
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                    OMPI_MCA_rmaps_base_oversubscribe="1")
         cmd = [shutil.which("mpiexec"), "-n", str(ranks), "--bind-to", bind, sys.executable,
                os.path.abspath(__file__), "--worker", str(L), str(steps), str(rounds), out,
-               "--integrator", integrator, "--shear", str(shear), "--balance", str(balance)]
+               "--integrator", integrator, "--shear", str(shear), "--balance", str(balance),
+               "--balance-by", balance_by] + (["--crowded"] if crowded else [])
         subprocess.run(cmd, env=env, check=True)
         recs = []
         for r in range(ranks):
@@ -188,11 +201,16 @@ def main():
                    help="also run every multi-rank launch with the automatic load balance by time every "
                         "EVERY steps (cell_system.set_load_balance), interleaved with the plain launch; "
                         "reports its efficiency as 'N+balance' (default 0: not run)")
+    p.add_argument("--balance-by", default="time", choices=["time", "particles", "pairs"],
+                   help="what --balance measures (default time)")
+    p.add_argument("--crowded", action="store_true",
+                   help="start with two thirds of the particles in the lowest third of the box along x "
+                        "(an inhomogeneous load; the fluid spreads slowly: a = 0)")
     p.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.worker:
         worker(float(a.worker[0]), int(a.worker[1]), int(a.worker[2]), a.worker[3], a.integrator, a.shear,
-               a.balance)
+               a.balance, a.balance_by, a.crowded)
         return
     cases = {10.0: 200, 20.0: 40} if a.quick else {20.0: 300, 40.0: 40}
     if a.sizes:
@@ -205,7 +223,8 @@ def main():
     res = dict(machine=machine,
                fluid=dict(rho=3.0, a=0.0, gamma=5.0, r_cut=1.0, kT=1.0,
                           dt=time_step(a.integrator), skin=0.4),
-               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, shear=a.shear, cases={})
+               launches=a.launches, rounds_per_launch=rounds, bind_to=a.bind_to, integrator=a.integrator, shear=a.shear,
+               balance=a.balance, balance_by=a.balance_by, crowded=a.crowded, cases={})
     # the launches compared: (label, ranks, balance every); with --balance
     # each multi-rank launch is also run with the automatic load balance
     variants = [(str(n), n, 0) for n in a.ranks]
@@ -222,7 +241,7 @@ def main():
         kinds = {v: [] for v, _, _ in variants}  # per launch: each rank's MPI wall time by kind, per round
         for k in range(a.launches):
             for n, nr, bal in variants:
-                r = launch(nr, L, steps, rounds, a.bind_to, a.integrator, a.shear, bal)
+                r = launch(nr, L, steps, rounds, a.bind_to, a.integrator, a.shear, bal, a.balance_by, a.crowded)
                 samples[n] += [r["n"] * r["steps"] / t for t in r["wall"]]
                 cpu_rate[n] += [r["n"] * r["steps"] / t for t in r["cpu_sum"]]
                 work_rate[n] += [r["n"] * r["steps"] / t for t in r["work_sum"]]

@@ -1086,12 +1086,12 @@ def _crowded_fluid(L=8.0, seed=6):
     return s
 
 
-def scene_balance_particles():
-    """balance(by="particles") of a crowded fluid, then 50 steps."""
+def scene_balance_particles(by="particles"):
+    """balance(by=@p by) of a crowded fluid, then 50 steps."""
     s = _crowded_fluid()
     s.integrator.run(0)
     before = len(s.cell_system.local_ids())
-    res = s.cell_system.balance(by="particles")
+    res = s.cell_system.balance(by=by)
     s.integrator.run(0)
     state = _rank_state(s)
     state["n_before"] = np.array(before)
@@ -1099,6 +1099,10 @@ def scene_balance_particles():
     out = _traj(s)
     out.update(imbalance=np.array(res["imbalance"]), moved=np.array(res["moved"]), rank_state=state)
     return s, out
+
+
+def scene_balance_pairs():
+    return scene_balance_particles(by="pairs")
 
 
 def scene_balance_auto(shardlow=False):

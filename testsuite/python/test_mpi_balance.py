@@ -97,6 +97,22 @@ def test_balance_by_particles_equalises_the_counts():
 
 
 @needs("DPD")
+def test_balance_by_pairs_gives_the_denser_side_fewer_particles():
+    """by="pairs" weights a particle by 1 + its listed pairs: the crowded
+    third (three times the density, about three times the pairs per
+    particle) gets fewer particles than by="particles" gives it."""
+    one, _ = run("balance_pairs", 1)
+    two, states = run("balance_pairs", 2)
+    _, by_count = run("balance_particles", 2)
+    assert bool(two["moved"])
+    check_ownership(states, len(one["ids"]), [8.0] * 3)
+    counts = [len(s["local_ids"]) for s in states]
+    assert counts[0] < 0.45 * sum(counts), counts
+    assert states[0]["cuts_x"][1] < by_count[0]["cuts_x"][1] - 0.1
+    assert_same_trajectory(one, two)
+
+
+@needs("DPD")
 def test_automatic_balance_by_time():
     one, _ = run("balance_auto", 1)
     assert int(one["n_balances"]) == 0
@@ -181,7 +197,7 @@ def test_checkpoint_keeps_the_planes(tmp_path):
 def test_balance_arguments_checked_on_one_rank():
     s = marble.System(box_l=[6.0] * 3)
     cs = s.cell_system
-    for kwargs, what in ((dict(by="work"), "'by'"), (dict(damping=0.0), "'damping'"),
+    for kwargs, what in ((dict(by="work"), "'by'"), (dict(by=None), "'by'"), (dict(damping=0.0), "'damping'"),
                          (dict(damping=1.5), "'damping'"), (dict(threshold=-0.1), "'threshold'")):
         with pytest.raises(ValueError, match=what):
             cs.balance(**kwargs)

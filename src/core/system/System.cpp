@@ -12,6 +12,7 @@ namespace Marble {
 System::System(Utils::Vector3d const &box_l) {
   m_cells.set_comm(&m_comm);
   set_box_l(box_l);
+  reset_balance_clock(); // (balance_domains by time measures from here at first)
 }
 
 void System::set_box_l(Utils::Vector3d const &l) {

@@ -294,7 +294,7 @@ public:
   ShardlowBuffers &shardlow_buffers() { return m_shardlow_buffers; }
 
   // --- load balance (system/balance.cpp; doc/parallel.md "Load balance") ---
-  enum class BalanceBy { Particles = 0, Time = 1 };
+  enum class BalanceBy { Particles = 0, Time = 1, Pairs = 2 };
   struct BalanceSettings {
     int every = 0;          ///< steps between automatic balances during run() (0: none)
     BalanceBy by = BalanceBy::Time;
@@ -313,8 +313,9 @@ public:
   /** Move the domain cuts along every split axis so that each slab of ranks
    * gets a share of the particles proportional to its measured speed
    * (particles per second of its own work since the last balance, the waits
-   * inside MPI calls left out: @p by Time) or an equal share (@p by
-   * Particles). Collective; on one rank nothing. */
+   * inside MPI calls left out: @p by Time), an equal share (@p by
+   * Particles), or an equal share of the particles weighted by 1 + their
+   * listed pairs (@p by Pairs). Collective; on one rank nothing. */
   BalanceResult balance_domains(BalanceBy by, double damping, double threshold);
   void set_balance(BalanceSettings const &b) {
     m_balance = b;

@@ -7,6 +7,10 @@
 // axis) holds a share of the particles proportional to its speed:
 //   - BalanceBy::Particles: every slab the same speed, i.e. equal particle
 //     counts (deterministic: a function of the positions only);
+//   - BalanceBy::Pairs: the same with each particle weighted by 1 + the
+//     pairs of its row of the Verlet list (LAMMPS's `weight neigh`): a
+//     denser region, whose particles have more pairs, gets fewer particles
+//     (deterministic);
 //   - BalanceBy::Time: a slab's speed is its particles per second of its
 //     ranks' own work since the last balance (wall time less the wall time
 //     inside MPI calls, where a rank waits for its partners). A slab on a
@@ -63,9 +67,28 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
     return res;
   }
   int const size = m_comm.size(), me = m_comm.rank();
+  // each local's weight: 1, or 1 + its listed pairs (the lists of the current positions)
+  std::vector<double> weight;
+  if (by == BalanceBy::Pairs) {
+    ensure_lists();
+    auto const &pl = m_cells.pairs();
+    weight.assign(static_cast<std::size_t>(m_ps.n_local()), 1.);
+    int const rows = std::min(pl.n_rows(), m_ps.n_local());
+    for (int i = 0; i < rows; ++i)
+      weight[static_cast<std::size_t>(i)] += pl.row_start[i + 1] - pl.row_start[i];
+    for (auto const &ij : pl.extra)
+      for (int k : ij)
+        if (k < m_ps.n_local())
+          weight[static_cast<std::size_t>(k)] += 0.5;
+  }
   int const n_local = m_ps.n_local();
-  // this rank's cost: its own work since the last balance, or its particles
+  // this rank's cost: its own work since the last balance, or its (weighted) particles
   double busy = static_cast<double>(n_local);
+  if (by == BalanceBy::Pairs) {
+    busy = 0.;
+    for (double w : weight)
+      busy += w;
+  }
   if (by == BalanceBy::Time) {
     double const mpi = m_comm.stats().wall_seconds;
     double const mpi_since = mpi >= m_balance_mpi ? mpi - m_balance_mpi : mpi; // (stats reset since)
@@ -103,7 +126,7 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
     std::vector<double> slab(2 * static_cast<std::size_t>(p), 0.);
     slab[static_cast<std::size_t>(me_at[d])] += n_local;
     slab[static_cast<std::size_t>(p + me_at[d])] += busy;
-    // the particles' histogram along d (folded positions)
+    // the particles' histogram along d (folded positions; weighted by Pairs)
     int const nb = 64 * p;
     std::vector<double> hist(static_cast<std::size_t>(nb), 0.);
     double const inv = nb / L[d];
@@ -112,7 +135,7 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
       if (m_box.periodic(d))
         x -= L[d] * std::floor(x / L[d]);
       int const b = std::clamp(static_cast<int>(std::floor(x * inv)), 0, nb - 1);
-      hist[static_cast<std::size_t>(b)] += 1.;
+      hist[static_cast<std::size_t>(b)] += weight.empty() ? 1. : weight[static_cast<std::size_t>(i)];
     }
     m_comm.sum_inplace(slab.data(), 2 * p);
     m_comm.sum_inplace(hist.data(), nb);
@@ -121,7 +144,7 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
       n_total += h;
     if (!(n_total > 0.))
       continue;
-    // each slab's speed (particles per second of work; equal by particles)
+    // each slab's speed (particles per second of work; equal by particles or pairs)
     std::vector<double> speed(static_cast<std::size_t>(p), 1.);
     if (by == BalanceBy::Time) {
       double mean = 0.;
@@ -141,7 +164,7 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
     double s_total = 0.;
     for (double s : speed)
       s_total += s;
-    // the new planes: the cumulative count reaches the cumulative speed share
+    // the new planes: the cumulative count (or weight) reaches the cumulative speed share
     std::vector<double> cut(static_cast<std::size_t>(p) + 1);
     cut[0] = 0., cut[static_cast<std::size_t>(p)] = L[d];
     double share = 0., cum = 0.;

@@ -199,11 +199,11 @@ class CellSystem:
             cuts.append(a.tolist() if p > 1 else [])
         core.set_domain_cuts(cuts)
 
-    _BALANCE_BY = {"particles": 0, "time": 1}
+    _BALANCE_BY = {"particles": 0, "time": 1, "pairs": 2}
 
     def _balance_args(self, by, damping, threshold):
-        if by not in self._BALANCE_BY:
-            raise ValueError(f"parameter 'by' must be 'time' or 'particles', got {by!r}")
+        if not isinstance(by, str) or by not in self._BALANCE_BY:
+            raise ValueError(f"parameter 'by' must be 'time', 'particles' or 'pairs', got {by!r}")
         for name, x, lo, hi, lo_open in (("damping", damping, 0.0, 1.0, True),
                                          ("threshold", threshold, 0.0, float("inf"), False)):
             if isinstance(x, bool) or not isinstance(x, numbers.Real) or not (
@@ -226,6 +226,9 @@ class CellSystem:
           trajectory are not reproducible from run to run; the physics is
           the same on any decomposition (doc/parallel.md).
         - ``by="particles"``: equal particle counts (deterministic).
+        - ``by="pairs"``: equal counts of particles weighted by 1 + their
+          pairs in the Verlet list (LAMMPS's ``weight neigh``): a denser
+          region gets fewer particles (deterministic).
 
         ``damping`` in (0, 1]: the fraction of the way to the computed
         boundaries; ``threshold`` >= 0: nothing moves unless the largest
@@ -240,7 +243,9 @@ class CellSystem:
     def set_load_balance(self, every, by="time", damping=0.5, threshold=0.05):
         """Balance automatically during ``integrator.run()``: :meth:`balance`
         with these parameters after every ``every``-th step (as LAMMPS's
-        ``fix balance``); ``every=0`` turns it off. Collective. A setting of
+        ``fix balance``) of velocity Verlet, DPD-VV or Shardlow (RESPA
+        substeps included; not during steepest descent or Brownian
+        dynamics); ``every=0`` turns it off. Collective. A setting of
         the run, not of the state: not in a checkpoint."""
         if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 0:
             raise ValueError(f"parameter 'every' must be an integer >= 0 (0: off), got {every!r}")
