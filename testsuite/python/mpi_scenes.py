@@ -959,6 +959,27 @@ def scene_srd_fluid(collisions=100):
     return s, out
 
 
+def scene_srd_balance():
+    """scene_srd_fluid's box, crowded: 2/3 of the SRD particles in the lowest
+    third along x; balance(by="particles") counts the SRD particles (there
+    are no MD particles); then 40 collisions."""
+    import marble.srd as srd
+    s = marble.System(box_l=[12.0, 8.0, 8.0], time_step=0.05)
+    s.cell_system.skin = 0.4
+    s.srd = srd.SRDFluid(types=[0], tau=0.1, kT=1.0, seed=31, angle=130.0)
+    srd.add_fluid(s, density=5, type=0, kT=1.0, seed=32)
+    pos, ids = np.array(s.srd.pos), np.asarray(s.srd.ids)  # (in rank order: crowd by id)
+    pos[ids < 2 * len(ids) // 3, 0] /= 3.0
+    s.srd.pos = pos
+    s.integrator.run(2)  # (the SRD particles move to their ranks)
+    res = s.cell_system.balance(by="particles")
+    s.integrator.run(78)
+    out = _srd_state(s)
+    out.update(imbalance=np.array(res["imbalance"]), moved=np.array(res["moved"]),
+               domain_cuts_x=np.asarray(s.cell_system.domain_cuts[0]))
+    return s, out
+
+
 def scene_srd_walls(collisions=100):
     """SRD channel: stochastic walls at z = 1.25 and 7 (inside the box) moving at
     +-0.2 (Couette), split in z on 2 ranks."""

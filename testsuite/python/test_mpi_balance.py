@@ -182,6 +182,23 @@ def test_other_scenes_on_uneven_domains(scene, features, tol, keys):
         _close(one, many, tol, keys)
 
 
+@needs("SRD")
+def test_balance_counts_srd_particles():
+    """An SRD fluid with 2/3 of its particles in the lowest third of a 12 x 8 x
+    8 box: balance(by="particles") puts the planes at the count quantiles
+    (x (7/36) = j/p below x = 4) and the SRD trajectory stays that of one rank,
+    to the bit."""
+    one, _ = run("srd_balance", 1)
+    assert not bool(one["moved"])
+    for ranks in (2, 3):
+        many, _ = run("srd_balance", ranks)
+        assert bool(many["moved"])
+        expect = [36 / 7 * j / ranks for j in range(1, ranks)]
+        np.testing.assert_allclose(many["domain_cuts_x"][1:-1], expect, rtol=0, atol=2 * 12 / (64 * ranks))
+        for key in ("ids", "pos", "v"):
+            np.testing.assert_array_equal(many[key], one[key], err_msg=key)
+
+
 @needs("MARBLE", "DPD", "HAT")
 def test_checkpoint_keeps_the_planes(tmp_path):
     """test_mpi.py's 2-rank checkpoint scene on uneven domains: the restart

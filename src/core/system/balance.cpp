@@ -27,6 +27,9 @@
 // rank from reduced sums and then broadcast from rank 0, so that every rank
 // holds the same bits.
 #include "system/System.hpp"
+#ifdef SRD
+#include "srd/Fluid.hpp"
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -81,11 +84,25 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
         if (k < m_ps.n_local())
           weight[static_cast<std::size_t>(k)] += 0.5;
   }
-  int const n_local = m_ps.n_local();
+  int const n_md = m_ps.n_local();
+  // SRD particles (srd/Fluid.hpp) count as particles of weight 1 (they have no pairs)
+  int n_srd = 0;
+#ifdef SRD
+  if (srd)
+    n_srd = srd->size();
+#endif
+  int const n_local = n_md + n_srd;
+  auto position = [&](int i) -> Utils::Vector3d const & {
+#ifdef SRD
+    if (i >= n_md)
+      return srd->pos[static_cast<std::size_t>(i - n_md)];
+#endif
+    return m_ps.pos[i];
+  };
   // this rank's cost: its own work since the last balance, or its (weighted) particles
   double busy = static_cast<double>(n_local);
   if (by == BalanceBy::Pairs) {
-    busy = 0.;
+    busy = n_srd;
     for (double w : weight)
       busy += w;
   }
@@ -131,11 +148,11 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
     std::vector<double> hist(static_cast<std::size_t>(nb), 0.);
     double const inv = nb / L[d];
     for (int i = 0; i < n_local; ++i) {
-      double x = m_ps.pos[i][d];
+      double x = position(i)[d];
       if (m_box.periodic(d))
         x -= L[d] * std::floor(x / L[d]);
       int const b = std::clamp(static_cast<int>(std::floor(x * inv)), 0, nb - 1);
-      hist[static_cast<std::size_t>(b)] += weight.empty() ? 1. : weight[static_cast<std::size_t>(i)];
+      hist[static_cast<std::size_t>(b)] += i < n_md && !weight.empty() ? weight[static_cast<std::size_t>(i)] : 1.;
     }
     m_comm.sum_inplace(slab.data(), 2 * p);
     m_comm.sum_inplace(hist.data(), nb);
