@@ -208,24 +208,6 @@ std::vector<double> CellSystem::domain_cuts(BoxGeometry const &box, int d) const
   return out;
 }
 
-double CellSystem::narrowest_domain(BoxGeometry const &box) const {
-  auto const g = node_grid(box);
-  double w = std::numeric_limits<double>::infinity();
-  for (int d = 0; d < 3; ++d) {
-    auto const c = domain_cuts(box, d);
-    for (std::size_t k = 0; k + 1 < c.size(); ++k)
-      w = std::min(w, c[k + 1] - c[k]);
-  }
-  (void)g;
-  return w;
-}
-
-int CellSystem::axis_coord_of(double x, int d, BoxGeometry const &box) const {
-  if (!parallel())
-    return 0;
-  return axis_split(box, node_grid(box), d).coord(x);
-}
-
 // The neighbour ranks: q is one if along every axis some periodic image of
 // q's domain (none along an open axis) is adjacent to this rank's domain or
 // at most @p radius from it: the node-coordinate offset k = |q + n grid - me|
@@ -292,7 +274,6 @@ int CellSystem::rank_at(std::array<int, 3> const &grid, std::array<int, 3> const
 std::array<int, 3> CellSystem::coords_at(std::array<int, 3> const &grid, int rank) {
   return coords_of(grid, rank);
 }
-int CellSystem::axis_coord_at(double x, double dl, int p) { return axis_coord(x, dl, p); }
 
 int CellSystem::owner_rank(Vector3d const &pos, BoxGeometry const &box) const {
   if (!parallel())

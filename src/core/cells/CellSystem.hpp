@@ -1,7 +1,9 @@
 #pragma once
 // Cell grid + Verlet lists with a skin and a ghost layer, over this rank's
 // domain (regular domain decomposition: the box is cut into a node grid of
-// px x py x pz equal boxes, one per MPI rank; one rank owns the whole box).
+// px x py x pz boxes, one per MPI rank, equal unless set_domain_fractions
+// moved the planes between them (load balance, system/balance.cpp); one
+// rank owns the whole box).
 //
 // On rebuild: locals are folded into the box and sorted by cell; every local
 // whose periodic image lies within `range` = max_cut + skin of the box gets a
@@ -224,14 +226,8 @@ public:
   static int rank_at(std::array<int, 3> const &grid, std::array<int, 3> const &coords);
   /** Node-grid coordinates of @p rank in the node grid @p grid (inverse of rank_at). */
   static std::array<int, 3> coords_at(std::array<int, 3> const &grid, int rank);
-  /** Node coordinate along one axis of the position @p x: clamp(floor(x / dl), 0, p - 1)
-   * for @p p domains of width @p dl (the rule of owner_rank). */
-  static int axis_coord_at(double x, double dl, int p);
   /** Rank owning the (folded) position @p pos. */
   int owner_rank(Utils::Vector3d const &pos, BoxGeometry const &box) const;
-  /** Node coordinate along axis @p d of the coordinate @p x (the rule of
-   * owner_rank, the domain cuts included). */
-  int axis_coord_of(double x, int d, BoxGeometry const &box) const;
 
   // --- domain cuts (load balance: doc/parallel.md "Load balance") ---
   /** The domains' boundaries along each axis as fractions of the box
@@ -251,9 +247,6 @@ public:
   /** The boundaries along axis @p d for @p box: node_grid[d] + 1 positions
    * from 0 to L (the equal split's c L / g where no cuts are set). */
   std::vector<double> domain_cuts(BoxGeometry const &box, int d) const;
-  /** The narrowest domain along the split axes (the box's smallest length
-   * along an axis not split; one rank: the smallest box length). */
-  double narrowest_domain(BoxGeometry const &box) const;
   /** One axis of the decomposition: @p p domains over [0, L), equal (the
    * arithmetic of floor(x / dl)) or at the cuts. */
   struct AxisSplit {
