@@ -1050,15 +1050,11 @@ def scene_srd_h5md():
 
 # --- domain cuts and load balance (test_mpi_balance.py) ---------------------
 
-def _uneven_cuts(s):
+def _uneven_cuts(grid, box_l):
     """Fixed uneven domain cuts along every split axis: plane j of p at
-    (j / p)^1.4 of the box (narrowest domain first)."""
-    grid = s.cell_system.node_grid
-    cuts = []
-    for d, p in enumerate(grid):
-        L = float(s.box_l[d])
-        cuts.append(None if p == 1 else [L * (j / p) ** 1.4 for j in range(p + 1)])
-    return cuts
+    (j / p)^1.4 of the box (narrowest domain first); None along an axis not split."""
+    return [None if p == 1 else [float(box_l[d]) * (j / p) ** 1.4 for j in range(p + 1)]
+            for d, p in enumerate(grid)]
 
 
 def _rank_state(s):
@@ -1080,7 +1076,7 @@ def _traj(s):
 def scene_cuts_marble():
     """scene_marble's fluid and marble on uneven domains set by hand."""
     s = fluid(8.0)
-    s.cell_system.domain_cuts = _uneven_cuts(s)
+    s.cell_system.domain_cuts = _uneven_cuts(s.cell_system.node_grid, s.box_l)
     col = marble.colloids.add_marble(s, pos=[8 / 2 - 0.3, 4.0, 4.0], radius=2.0, gamma=5.0)
     col.v = [0.3, 0.1, 0.0]
     s.integrator.run(0)
@@ -1183,11 +1179,9 @@ def _with_uneven_cuts():
 
     def run_on_uneven_domains(self, *args, **kwargs):
         core = self._core
-        grid, box_l = core.node_grid(), core.box_l
-        want = [[0.0, float(box_l[d])] if p == 1 else [float(box_l[d]) * (j / p) ** 1.4 for j in range(p + 1)]
-                for d, p in enumerate(grid)]
-        if [list(c) for c in core.domain_cuts()] != want:
-            core.set_domain_cuts([c if len(c) > 2 else [] for c in want])
+        want = _uneven_cuts(core.node_grid(), core.box_l)
+        if [list(c) for c in core.domain_cuts()] != [c or [0.0, float(L)] for c, L in zip(want, core.box_l)]:
+            core.set_domain_cuts([c or [] for c in want])
         return run(self, *args, **kwargs)
 
     marble.integrate.Integrator.run = run_on_uneven_domains

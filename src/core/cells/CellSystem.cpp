@@ -357,10 +357,10 @@ void CellSystem::migrate(ParticleStore &ps, BoxGeometry const &box) const {
   std::array<AxisSplit, 3> const ax{axis_split(box, g, 0), axis_split(box, g, 1), axis_split(box, g, 2)};
   double in_lo[3], in_hi[3];
   for (int d = 0; d < 3; ++d) {
-    double const dl = L[d] / g[d], margin = 1e-9 * (L[d] + 1.);
+    // (the equal split's lo(c) is c * (L / g), as before)
+    double const margin = 1e-9 * (L[d] + 1.);
     in_lo[d] = me_at[d] == 0 ? -std::numeric_limits<double>::infinity() : ax[d].lo(me_at[d]) + margin;
-    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity()
-                                    : (ax[d].uniform ? (me_at[d] + 1) * dl : ax[d].lo(me_at[d] + 1)) - margin;
+    in_hi[d] = me_at[d] == g[d] - 1 ? std::numeric_limits<double>::infinity() : ax[d].lo(me_at[d] + 1) - margin;
   }
   for (int i = 0; i < ps.n_local(); ++i) {
     Vector3d const &x = ps.pos[i];

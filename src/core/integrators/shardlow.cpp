@@ -455,11 +455,10 @@ void check_shardlow_decomposition(System &sys) {
     if (g[d] < 2)
       continue;
     // the narrowest domain along d (the equal split's L / g without domain cuts)
-    auto const cuts = cells.domain_cuts(sys.box(), d);
+    auto const ax = cells.axis_split(sys.box(), g, d);
     double w = L[d] / g[d];
-    if (!cells.axis_split(sys.box(), g, d).uniform)
-      for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
-        w = std::min(w, cuts[k + 1] - cuts[k]);
+    for (std::size_t k = 0; k + 1 < ax.cut.size(); ++k) // (empty for the equal split)
+      w = std::min(w, ax.cut[k + 1] - ax.cut[k]);
     if (w < 2. * r)
       throw Utils::RuntimeError(
           "cannot integrate with the Shardlow integrator on " + std::to_string(sys.comm().size()) +

@@ -409,7 +409,7 @@ private:
   int m_large_range_mode = -1;
   std::vector<char> m_large_range_types;
   BalanceSettings m_balance;
-  double m_balance_wall = -1.; // reset_balance_clock: the wall clock and
+  double m_balance_wall = 0.; // reset_balance_clock (from the constructor on): the wall clock and
   double m_balance_mpi = 0.;   // the wall time inside MPI calls then
   long m_n_balances = 0;
   /** run_md's hook: balance_domains when m_balance.every divides the step. */

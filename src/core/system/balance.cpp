@@ -109,7 +109,7 @@ System::BalanceResult System::balance_domains(BalanceBy by, double damping, doub
   if (by == BalanceBy::Time) {
     double const mpi = m_comm.stats().wall_seconds;
     double const mpi_since = mpi >= m_balance_mpi ? mpi - m_balance_mpi : mpi; // (stats reset since)
-    busy = m_balance_wall < 0. ? 0. : std::max(0., wall_now() - m_balance_wall - mpi_since);
+    busy = std::max(0., wall_now() - m_balance_wall - mpi_since);
   }
   double cmax = busy, csum = busy;
   m_comm.max_inplace(&cmax, 1);
