@@ -1145,6 +1145,40 @@ def scene_balance_auto_shardlow():
     return scene_balance_auto(shardlow=True)
 
 
+def _balance_ckpt_out(s):
+    s.integrator.run(0)
+    out = _traj(s)
+    lb = s.cell_system.get_load_balance()
+    out.update(n_balances=np.array(lb["n_balances"]), every=np.array(lb["every"]), by=np.array(lb["by"]))
+    return out
+
+
+def scene_balance_ckpt_reference():
+    """The crowded fluid balanced automatically by pairs every 10 steps
+    (deterministic): checkpoint after 35 steps, then 35 more (the reference;
+    balances at steps 10-70)."""
+    import marble.checkpointing
+    s = _crowded_fluid(seed=8)
+    s.cell_system.set_load_balance(10, by="pairs", damping=0.5, threshold=0.0)
+    s.integrator.run(35)
+    cp = marble.checkpointing.Checkpoint(checkpoint_id="balance", checkpoint_path=_ckpt_dir(),
+                                         namespace=dict(system=s))
+    cp.register("system")
+    cp.save()
+    s.integrator.run(35)
+    return s, _balance_ckpt_out(s)
+
+
+def scene_balance_ckpt_restart():
+    """A new mpiexec that sets no balance: load the checkpoint, run 35 steps."""
+    import marble.checkpointing
+    ns = {}
+    marble.checkpointing.Checkpoint(checkpoint_id="balance", checkpoint_path=_ckpt_dir(), namespace=ns).load()
+    s = ns["system"]
+    s.integrator.run(35)
+    return s, _balance_ckpt_out(s)
+
+
 def scene_cuts_bad():
     """Bad cuts on N >= 2 ranks: each a ValueError, nothing changed; then
     Shardlow refused on a domain narrower than twice the pair range."""

@@ -279,9 +279,9 @@ def test_older_format_version_refused():
     blob = bytearray(s._core.get_checkpoint_state())
     before = bytes(blob)
     version_at = 8  # after the 8-byte magic
-    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 6
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 7
     blob[version_at:version_at + 4] = (2).to_bytes(4, "little")
-    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 6"):
+    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 7"):
         s._core.set_checkpoint_state(bytes(blob))
     assert s._core.get_checkpoint_state() == before
 
@@ -303,6 +303,9 @@ def _as_version_3(blob):
     n_g, = struct.unpack_from("<Q", p, at)
     g = p[at + 8:at + 8 + n_g]
     rest = p[at + 8 + n_g:]
+    # format 7 appended the automatic load balance (i32 every, i32 by, f64 damping, f64 threshold,
+    # i64 count of balances)
+    g = g[:len(g) - 32]
     # format 6 appended the domain planes (three u64 counts and doubles; equal domains here: empty)
     assert g[len(g) - 24:] == bytes(24)
     g = g[:len(g) - 24]
@@ -408,3 +411,58 @@ def test_old_pickle_attribute_restores_the_setting():
     s2.__setstate__(state)
     assert s2.cell_system.large_range_types == [2]
     assert "_large_range_types" not in s2.__dict__
+
+
+def _as_version_6(blob):
+    """The format-6 blob of the same state: format 7 appended the automatic
+    load balance (32 bytes) to the global block (no Lees-Edwards tail here)."""
+    import struct
+    import zlib
+    head = 8 + 4 + 8 + 4
+    p = bytes(blob[head:])
+    at = 0
+    for _ in range(2):  # features, layout
+        n, = struct.unpack_from("<Q", p, at)
+        at += 8 + n
+    at += 4
+    n_g, = struct.unpack_from("<Q", p, at)
+    g = p[at + 8:at + 8 + n_g]
+    every, by, damping, threshold, count = struct.unpack_from("<iiddq", g, len(g) - 32)
+    p6 = p[:at] + struct.pack("<Q", n_g - 32) + g[:-32] + p[at + 8 + n_g:]
+    return bytes(blob[:8]) + struct.pack("<IQI", 6, len(p6), zlib.crc32(p6)) + p6, (every, by, damping, threshold, count)
+
+
+def test_load_balance_settings_in_core_blob():
+    """cell_system.set_load_balance is part of the core blob (format 7): a
+    System restored from it (another box: the blob sets everything) reports
+    the same settings; a blob of format 6 loads without an automatic
+    balance; a bad value in the blob is refused, nothing changed."""
+    import struct
+    import zlib
+    s, _, _ = make_scene("vv")
+    s.cell_system.set_load_balance(25, by="pairs", damping=0.3, threshold=0.2)
+    want = s.cell_system.get_load_balance()
+    blob = s._core.get_checkpoint_state()
+    s2 = marble.System(box_l=[4.0] * 3)
+    s2._core.set_checkpoint_state(blob)
+    assert s2.cell_system.get_load_balance() == want
+    assert pickle.loads(pickle.dumps(s)).cell_system.get_load_balance() == want
+    old, fields = _as_version_6(blob)
+    assert fields == (25, 2, 0.3, 0.2, 0)  # every, by (pairs), damping, threshold, balances
+    s3 = marble.System(box_l=[4.0] * 3)
+    s3._core.set_checkpoint_state(old)
+    assert s3.cell_system.get_load_balance()["every"] == 0
+    s3.cell_system.set_load_balance(25, by="pairs", damping=0.3, threshold=0.2)
+    assert s3._core.get_checkpoint_state() == blob
+    # damping 0 in the blob (set_load_balance allows (0, 1]): refused as corrupt
+    head = 8 + 4 + 8 + 4
+    bad = bytearray(blob)
+    at = bytes(bad).find(struct.pack("<iidd", 25, 2, 0.3, 0.2), head)
+    assert at > 0
+    bad[at + 8:at + 16] = struct.pack("<d", 0.0)
+    p = bytes(bad[head:])
+    bad[8:head] = struct.pack("<IQI", 7, len(p), zlib.crc32(p))
+    before = s2._core.get_checkpoint_state()
+    with pytest.raises(RuntimeError, match="load-balance settings"):
+        s2._core.set_checkpoint_state(bytes(bad))
+    assert s2._core.get_checkpoint_state() == before

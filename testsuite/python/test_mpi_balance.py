@@ -211,6 +211,20 @@ def test_checkpoint_keeps_the_planes(tmp_path):
         np.testing.assert_array_equal(got[key], ref[key], err_msg=key)
 
 
+@needs("DPD")
+def test_checkpoint_keeps_the_automatic_balance(tmp_path):
+    """The automatic balance (by pairs, every 10 steps) is part of the
+    checkpoint (format 7): a new mpiexec that loads it and sets nothing
+    balances at the same steps, so it ends on the same planes, with the same
+    count of balances, and bit for bit on the same trajectory as the
+    uninterrupted run."""
+    ref, _ = run("balance_ckpt_reference", 2, MARBLE_CKPT_DIR=str(tmp_path))
+    got, _ = run("balance_ckpt_restart", 2, MARBLE_CKPT_DIR=str(tmp_path))
+    assert int(ref["every"]) == 10 and str(ref["by"]) == "pairs" and int(ref["n_balances"]) >= 4
+    for key in ref:
+        np.testing.assert_array_equal(got[key], ref[key], err_msg=key)
+
+
 def test_balance_arguments_checked_on_one_rank():
     s = marble.System(box_l=[6.0] * 3)
     cs = s.cell_system

@@ -250,6 +250,11 @@ struct CheckpointAccess {
     // the domain planes as fractions of the box (format version 6; none before:
     // equal domains): CellSystem::set_domain_fractions
     std::array<std::vector<double>, 3> domain_fractions;
+    // the automatic load balance (cell_system.set_load_balance) and the number
+    // of balances that moved the planes (format version 7; none before: no
+    // automatic balance)
+    System::BalanceSettings balance;
+    std::int64_t n_balances = 0;
     // Lees-Edwards (an optional tail of the global block, written only when
     // it is on: blobs without it are unchanged)
     LeesEdwardsProtocol le;
@@ -285,6 +290,11 @@ struct CheckpointAccess {
     o.pod(static_cast<std::int32_t>(s.m_substeps)); // format version 5
     for (auto const &f : s.m_cells.domain_fractions()) // format version 6
       o.vec(f);
+    o.pod(static_cast<std::int32_t>(s.m_balance.every)); // format version 7
+    o.pod(static_cast<std::int32_t>(s.m_balance.by));
+    o.pod(s.m_balance.damping);
+    o.pod(s.m_balance.threshold);
+    o.pod(static_cast<std::int64_t>(s.m_n_balances));
     if (s.m_le_protocol.kind != LeesEdwardsProtocol::Off) { // Lees-Edwards tail
       auto const &p = s.m_le_protocol;
       o.pod(static_cast<std::int32_t>(p.kind));
@@ -340,6 +350,19 @@ struct CheckpointAccess {
         if (!ok)
           corrupt("bad domain planes of the cell system");
       }
+    if (version >= 7) {
+      auto const every = in.pod<std::int32_t>(), by = in.pod<std::int32_t>();
+      g.balance.every = every;
+      g.balance.by = static_cast<System::BalanceBy>(by);
+      g.balance.damping = in.pod<double>();
+      g.balance.threshold = in.pod<double>();
+      g.n_balances = in.pod<std::int64_t>();
+      // the ranges set_load_balance accepts (script interface)
+      if (every < 0 || by < static_cast<int>(System::BalanceBy::Particles) ||
+          by > static_cast<int>(System::BalanceBy::Pairs) || !(g.balance.damping > 0. && g.balance.damping <= 1.) ||
+          !(g.balance.threshold >= 0.) || g.n_balances < 0)
+        corrupt("bad load-balance settings of the cell system");
+    }
     if (!in.done()) { // the Lees-Edwards tail
       g.le.kind = in.pod<std::int32_t>();
       g.le_direction = in.pod<std::int32_t>();
@@ -575,6 +598,9 @@ struct CheckpointAccess {
     s.m_sd = g.sd;
     s.m_substeps = g.substeps;
     s.m_cells.set_domain_fractions(g.domain_fractions); // (after set_skin: invalidates the lists again)
+    s.m_balance = g.balance;
+    s.m_n_balances = static_cast<long>(g.n_balances);
+    s.reset_balance_clock(); // a balance by time measures from the load on
     s.m_dpd_in_pair_loop = g.dpd_in_pair_loop != 0;
     s.m_thermo = g.thermo;
     s.m_ia.clear();

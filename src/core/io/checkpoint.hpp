@@ -33,7 +33,7 @@ namespace Checkpoint {
 // per-particle gamma; 4: the requested large-range types of the cell system
 // (cell_system.large_range_types); 5: the integrator's RESPA substeps. Blobs of
 // version 3 still load (as "auto"; 3 and 4 with substeps = 1).
-inline constexpr std::uint32_t format_version = 6;
+inline constexpr std::uint32_t format_version = 7;
 inline constexpr std::uint32_t oldest_readable_version = 3;
 
 /** CRC-32 (IEEE 802.3, as zlib.crc32) of @p n bytes. */

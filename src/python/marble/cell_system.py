@@ -245,8 +245,9 @@ class CellSystem:
         with these parameters after every ``every``-th step (as LAMMPS's
         ``fix balance``) of velocity Verlet, DPD-VV or Shardlow (RESPA
         substeps included; not during steepest descent or Brownian
-        dynamics); ``every=0`` turns it off. Collective. A setting of
-        the run, not of the state: not in a checkpoint."""
+        dynamics); ``every=0`` turns it off. Collective. Part of the
+        checkpoint (with the number of balances so far), so a continued run
+        balances at the same steps as the uninterrupted one."""
         if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 0:
             raise ValueError(f"parameter 'every' must be an integer >= 0 (0: off), got {every!r}")
         b, damping, threshold = self._balance_args(by, damping, threshold)
