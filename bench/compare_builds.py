@@ -14,7 +14,10 @@ back) with a 68 % bootstrap interval of that median. With --side-by-side the
 two builds' processes of a round run at the same time, each pinned to its own
 core, the cores swapped every round: on a machine whose speed drifts (a
 virtual machine's host) the per-round ratios scatter less (session 17: 0.95-1.13
-against 0.84-1.23 in sequence). Writes bench/results/compare_builds.json.
+against 0.84-1.23 in sequence); it also reports the geometric mean of each two
+consecutive rounds' ratios (each build once on each core), which cancels a
+speed difference between the two cores. Each core's speed is probed before and
+after the rounds (bench_common.core_speeds). Writes bench/results/compare_builds.json.
 
 Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
 L = 20: 24 000 beads), Groot-Warren water (a = 25, gamma = 4.5), the LJ fluid of
@@ -242,6 +245,9 @@ def main(argv=None):
     if not args.sample_time > 0:
         raise SystemExit(f"--sample-time must be > 0 tau, got {args.sample_time}")
     current, base, tmp = current_and_baseline(args.baseline, args.baseline_build)
+    from bench_common import core_speeds, core_speeds_line
+    speeds_before = core_speeds()  # with this build: the probe measures the cores, not the builds
+    print(core_speeds_line(speeds_before) + " (before)", flush=True)
     cases = args.cases.split(",")
     samples = {c: {"current": [], "baseline": []} for c in cases}
     try:
@@ -265,8 +271,11 @@ def main(argv=None):
                 flush=True)
     finally:
         remove_ref(tmp)
+    speeds_after = core_speeds()
+    print(core_speeds_line(speeds_after) + " (after)", flush=True)
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
-           "side_by_side": bool(args.side_by_side), "cases": {}}
+           "side_by_side": bool(args.side_by_side), "core_speed_before": speeds_before,
+           "core_speed_after": speeds_after, "cases": {}}
     how = "side-by-side" if args.side_by_side else "interleaved"
     print(f"\nparticle-steps per CPU-second (fig4_run: runs per CPU-second), median of {args.rounds} {how} rounds")
     print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios: "
@@ -281,6 +290,16 @@ def main(argv=None):
                                round_ratio_interval=[lo, hi])
         print(f"{c:14s} {mc:10.4g} {mb:10.4g} {mc / mb:7.3f}  {min(rr):.3f}-{max(rr):.3f}, "
               f"{statistics.median(rr):.3f} ({lo:.3f}-{hi:.3f})")
+        if args.side_by_side and len(rr) >= 2:
+            # rounds 2k and 2k + 1 ran each build once on each core: the
+            # geometric mean of their two ratios cancels a speed difference
+            # between the cores (which the per-round ratios carry in full)
+            sw = [(rr[2 * k] * rr[2 * k + 1]) ** 0.5 for k in range(len(rr) // 2)]
+            slo, shi = median_interval(sw)
+            out["cases"][c].update(swapped_pair_ratios=sw, swapped_pair_ratio_median=statistics.median(sw),
+                                   swapped_pair_ratio_interval=[slo, shi])
+            print(f"{'':14s} swapped-core pairs (geometric mean of the two rounds, each build once on each "
+                  f"core): {min(sw):.3f}-{max(sw):.3f}, median {statistics.median(sw):.3f} ({slo:.3f}-{shi:.3f})")
         if c in SHARDLOW_CASES:  # N / (rate dt): CPU-seconds per unit of time tau
             tau = {w: N_PARTICLES[c] / (out["cases"][c][w] * DT[c]) for w in ("current", "baseline")}
             out["cases"][c]["cpu_s_per_tau"] = tau

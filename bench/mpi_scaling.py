@@ -30,7 +30,10 @@ efficiency E = t_1 / (N t_N) of the medians. On a shared machine E is only
 meaningful when N cores are free: the JSON records the load average before
 and after, and (from /proc/stat) the share of the cores that other processes
 used while the bench ran and the share the virtual machine's host stole; the
-run counts as idle when the others used less than 5 %. Two CPU-time
+run counts as idle when the others used less than 5 %. Idle is not enough on a
+virtual machine whose cores run at different speeds (session 27): each core's
+speed is probed before and after the launches (bench_common.core_speeds) and
+the summary line gives the largest spread. Two CPU-time
 efficiencies are reported as well, which a busy machine disturbs much less
 (every rank records its process CPU time and, from `_core.comm_stats()`, the
 CPU time it spent inside MPI calls):
@@ -216,8 +219,9 @@ def main():
     if a.sizes:
         cases = {L: s for L, s in cases.items() if L in a.sizes}
     rounds = 2 if a.quick else 3
-    from bench_common import machine_info
-    machine = machine_info()
+    from bench_common import core_speeds, core_speeds_line, machine_info
+    machine = machine_info(core_speed=True)
+    print(core_speeds_line(machine["core_speed"]) + " (before)", flush=True)
     machine["load_avg_before"] = machine.pop("load_avg")
     counters0 = cpu_counters()
     res = dict(machine=machine,
@@ -283,6 +287,12 @@ def main():
                                      comm_kinds_per_launch=kinds[n])
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
+    res["machine"]["core_speed_after"] = core_speeds()
+    print(core_speeds_line(res["machine"]["core_speed_after"]) + " (after)", flush=True)
+    # the cores' speeds, before and after: a rank on a slower core makes its
+    # partner wait, which no load or steal figure shows (session 27)
+    spreads = [c["spread"] for c in (res["machine"]["core_speed"], res["machine"]["core_speed_after"])
+               if c is not None]
     others, stolen = others_share(counters0, cpu_counters())
     # the idle test: what other processes used while the bench ran (the load
     # average lags by a minute and counts the bench's own ranks)
@@ -324,6 +334,7 @@ def main():
     print("EFFICIENCY: " + "; ".join(summary) +
           f"; load average {la[0]:.1f} before, {la[1]:.1f} after ({la_after_others:.1f} without the "
           f"bench's {max(a.ranks)} ranks) on {os.cpu_count()} cores" + how
+          + (f"; the cores' speeds differed by up to {100 * max(spreads):.1f} %" if spreads else "")
           + (" (machine busy: not an idle measurement)" if busy else ""))
     try:
         import matplotlib
