@@ -3,13 +3,16 @@
 
 One process runs one rank's share of the `mpi_scaling.py` fluid (rho = 3,
 a = 0, gamma = 5, kT = 1, skin 0.4; the box L/2 x L x L, periodic) alone,
-pinned to core 0; then two such processes run at once, pinned to cores 0
-and 1. Alternated (alone, pair, alone, pair, ...) so that the machine's
-drifting speed hits both alike. Reported: particle-steps per CPU-second, and
-the ratio of the pair's mean to the neighbouring alone runs: the share of
+pinned to core 0, then alone on core 1; then two such processes run at once,
+pinned to cores 0 and 1. Alternated (alone, alone, pair, ...) so that the
+machine's drifting speed hits both alike. Reported: particle-steps per
+CPU-second, and per round the mean over the two cores of the pair's rate
+on a core over the alone rate on the same core (since session 28; before,
+both against core 0 alone, which a slower core 0 biased): the share of
 one core's speed a process keeps when the other core is busy with the same
 work (caches and memory bandwidth are shared). A 2-rank efficiency E above
-that ratio cannot be expected on this machine (doc/parallel.md).
+that ratio cannot be expected on this machine (doc/parallel.md). Each
+core's speed is probed before and after (bench_common.core_speeds).
 
 Run:  build/pymarble bench/concurrency_cap.py [--integrator vv|shardlow] [--size 40]
                                               [--repeats 3] [--steps N] [--out DIR]
@@ -81,17 +84,24 @@ def main():
         return
     if (os.cpu_count() or 1) < 2:
         sys.exit("concurrency_cap.py needs two cores")
-    alone, pairs = [], []
+    sys.path.insert(0, HERE)
+    from bench_common import core_speeds, core_speeds_line
+    speeds = [core_speeds()]
+    print(core_speeds_line(speeds[0]) + " (before)", flush=True)
+    alone, pairs = [], []  # alone: [core 0, core 1] per round
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(args.repeats):
-            alone.append(launch([0], args, tmp, f"a{k}")[0])
+            alone.append([launch([c], args, tmp, f"a{k}_{c}")[0] for c in (0, 1)])
             pairs.append(launch([0, 1], args, tmp, f"p{k}"))
-            print(f"round {k}: alone {alone[-1]:.3e}  two at once {pairs[-1][0]:.3e} / {pairs[-1][1]:.3e}"
-                  f"  -> {statistics.mean(pairs[-1]) / alone[-1]:.3f} of alone", flush=True)
-    ratios = [statistics.mean(q) / a for a, q in zip(alone, pairs)]
+            r = statistics.mean(q / a for q, a in zip(pairs[-1], alone[-1]))
+            print(f"round {k}: alone {alone[-1][0]:.3e} / {alone[-1][1]:.3e}  two at once "
+                  f"{pairs[-1][0]:.3e} / {pairs[-1][1]:.3e}  -> {r:.3f} of alone", flush=True)
+    speeds.append(core_speeds())
+    print(core_speeds_line(speeds[1]) + " (after)", flush=True)
+    ratios = [statistics.mean(q / x for q, x in zip(qs, a)) for a, qs in zip(alone, pairs)]
     res = dict(integrator=args.integrator, size=args.size, steps=args.steps, alone=alone, pairs=pairs,
                ratios=ratios, ratio_median=statistics.median(ratios),
-               load_after=os.getloadavg()[0])
+               load_after=os.getloadavg()[0], core_speed_before=speeds[0], core_speed_after=speeds[1])
     os.makedirs(args.out, exist_ok=True)
     path = os.path.join(args.out, f"concurrency_cap_{args.integrator}.json")
     with open(path, "w") as f:
