@@ -1011,25 +1011,34 @@ def scene_srd_walls_colloid(collisions=100):
     return s, _srd_state(s, col)
 
 
-def scene_srd_ckpt_reference():
-    """SRD + colloid: checkpoint after 60 collisions, then 60 more."""
+def _save_system(s, checkpoint_id):
+    """Checkpoint @p s alone (as "system") under MARBLE_CKPT_DIR."""
     import marble.checkpointing
-    s, _ = scene_srd_colloid(collisions=60)
-    cp = marble.checkpointing.Checkpoint(checkpoint_id="srd", checkpoint_path=_ckpt_dir(),
+    cp = marble.checkpointing.Checkpoint(checkpoint_id=checkpoint_id, checkpoint_path=_ckpt_dir(),
                                          namespace=dict(system=s))
     cp.register("system")
     cp.save()
+
+
+def _load_system(checkpoint_id):
+    """The System of _save_system's last checkpoint."""
+    import marble.checkpointing
+    ns = {}
+    marble.checkpointing.Checkpoint(checkpoint_id=checkpoint_id, checkpoint_path=_ckpt_dir(), namespace=ns).load()
+    return ns["system"]
+
+
+def scene_srd_ckpt_reference():
+    """SRD + colloid: checkpoint after 60 collisions, then 60 more."""
+    s, _ = scene_srd_colloid(collisions=60)
+    _save_system(s, "srd")
     s.integrator.run(120)
     return s, _srd_state(s)
 
 
 def scene_srd_ckpt_restart():
     """A new mpiexec (any rank count): load the SRD checkpoint, run 60 collisions."""
-    import marble.checkpointing
-    ns = {}
-    cp = marble.checkpointing.Checkpoint(checkpoint_id="srd", checkpoint_path=_ckpt_dir(), namespace=ns)
-    cp.load()
-    s = ns["system"]
+    s = _load_system("srd")
     s.integrator.run(120)
     return s, _srd_state(s)
 
@@ -1157,24 +1166,17 @@ def scene_balance_ckpt_reference():
     """The crowded fluid balanced automatically by pairs every 10 steps
     (deterministic): checkpoint after 35 steps, then 35 more (the reference;
     balances at steps 10-70)."""
-    import marble.checkpointing
     s = _crowded_fluid(seed=8)
     s.cell_system.set_load_balance(10, by="pairs", damping=0.5, threshold=0.0)
     s.integrator.run(35)
-    cp = marble.checkpointing.Checkpoint(checkpoint_id="balance", checkpoint_path=_ckpt_dir(),
-                                         namespace=dict(system=s))
-    cp.register("system")
-    cp.save()
+    _save_system(s, "balance")
     s.integrator.run(35)
     return s, _balance_ckpt_out(s)
 
 
 def scene_balance_ckpt_restart():
     """A new mpiexec that sets no balance: load the checkpoint, run 35 steps."""
-    import marble.checkpointing
-    ns = {}
-    marble.checkpointing.Checkpoint(checkpoint_id="balance", checkpoint_path=_ckpt_dir(), namespace=ns).load()
-    s = ns["system"]
+    s = _load_system("balance")
     s.integrator.run(35)
     return s, _balance_ckpt_out(s)
 

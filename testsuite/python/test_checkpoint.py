@@ -286,13 +286,12 @@ def test_older_format_version_refused():
     assert s._core.get_checkpoint_state() == before
 
 
-def _as_version_3(blob):
-    """The format-3 blob of the same state: format 4 appended the requested
-    large-range types (i32 mode, u64 count, count bytes) to the global block.
-    Payload: features (u64 + bytes), layout (u64 + bytes), i32 rank count,
-    global block (u64 + bytes), particle blocks."""
+def _global_block(blob):
+    """(payload before the global block, the global block, the rest) of a
+    core blob. Envelope: magic (8) | version (u32) | size (u64) | CRC-32
+    (u32); payload: features (u64 + bytes), layout (u64 + bytes), i32 rank
+    count, global block (u64 + bytes), particle blocks."""
     import struct
-    import zlib
     head = 8 + 4 + 8 + 4
     p = bytes(blob[head:])
     at = 0
@@ -301,8 +300,22 @@ def _as_version_3(blob):
         at += 8 + n
     at += 4
     n_g, = struct.unpack_from("<Q", p, at)
-    g = p[at + 8:at + 8 + n_g]
-    rest = p[at + 8 + n_g:]
+    return p[:at], p[at + 8:at + 8 + n_g], p[at + 8 + n_g:]
+
+
+def _with_global_block(blob, version, before, g, rest):
+    """The core blob of format @p version with the global block @p g."""
+    import struct
+    import zlib
+    p = before + struct.pack("<Q", len(g)) + g + rest
+    return bytes(blob[:8]) + struct.pack("<IQI", version, len(p), zlib.crc32(p)) + p
+
+
+def _as_version_3(blob):
+    """The format-3 blob of the same state: format 4 appended the requested
+    large-range types (i32 mode, u64 count, count bytes) to the global block."""
+    import struct
+    before, g, rest = _global_block(blob)
     # format 7 appended the automatic load balance (i32 every, i32 by, f64 damping, f64 threshold,
     # i64 count of balances)
     g = g[:len(g) - 32]
@@ -321,8 +334,7 @@ def _as_version_3(blob):
                 break
     else:
         raise AssertionError("no large-range field at the end of the global block")
-    p3 = p[:at] + struct.pack("<Q", len(g3)) + g3 + rest
-    return (bytes(blob[:8]) + struct.pack("<IQI", 3, len(p3), zlib.crc32(p3)) + p3), mode
+    return _with_global_block(blob, 3, before, g3, rest), mode
 
 
 needs_suspension = pytest.mark.skipif(
@@ -417,19 +429,9 @@ def _as_version_6(blob):
     """The format-6 blob of the same state: format 7 appended the automatic
     load balance (32 bytes) to the global block (no Lees-Edwards tail here)."""
     import struct
-    import zlib
-    head = 8 + 4 + 8 + 4
-    p = bytes(blob[head:])
-    at = 0
-    for _ in range(2):  # features, layout
-        n, = struct.unpack_from("<Q", p, at)
-        at += 8 + n
-    at += 4
-    n_g, = struct.unpack_from("<Q", p, at)
-    g = p[at + 8:at + 8 + n_g]
-    every, by, damping, threshold, count = struct.unpack_from("<iiddq", g, len(g) - 32)
-    p6 = p[:at] + struct.pack("<Q", n_g - 32) + g[:-32] + p[at + 8 + n_g:]
-    return bytes(blob[:8]) + struct.pack("<IQI", 6, len(p6), zlib.crc32(p6)) + p6, (every, by, damping, threshold, count)
+    before, g, rest = _global_block(blob)
+    fields = struct.unpack_from("<iiddq", g, len(g) - 32)  # every, by, damping, threshold, count
+    return _with_global_block(blob, 6, before, g[:-32], rest), fields
 
 
 def test_load_balance_settings_in_core_blob():
