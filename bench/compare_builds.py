@@ -17,7 +17,8 @@ virtual machine's host) the per-round ratios scatter less (session 17: 0.95-1.13
 against 0.84-1.23 in sequence); it also reports the geometric mean of each two
 consecutive rounds' ratios (each build once on each core), which cancels a
 speed difference between the two cores. Each core's speed is probed before and
-after the rounds (bench_common.core_speeds). Writes bench/results/compare_builds.json.
+after the rounds (bench_common.core_speeds); --pin CORE (or --pin fastest)
+runs the interleaved rounds all on one core. Writes bench/results/compare_builds.json.
 
 Cases: the marble paper's DPD solvent (rho = 3, a = 0, gamma = 5, dt = 0.01,
 L = 20: 24 000 beads), Groot-Warren water (a = 25, gamma = 4.5), the LJ fluid of
@@ -228,6 +229,10 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--cases", default=",".join(CASES),
                     help="comma-separated, from " + ", ".join(CASES + SHARDLOW_CASES))
+    ap.add_argument("--pin", default=None, metavar="CORE",
+                    help="interleaved rounds (not --side-by-side): run every process pinned to this core, or "
+                         "'fastest' for the core the speed probe found fastest (a machine whose cores differ "
+                         "then compares both builds on one core)")
     ap.add_argument("--side-by-side", action="store_true",
                     help="run the two builds' processes at the same time, each pinned to its own core "
                          "(the cores swapped every round): drifts of the machine's speed hit both alike")
@@ -249,6 +254,15 @@ def main(argv=None):
     speeds_before = core_speeds()  # with this build: the probe measures the cores, not the builds
     print(core_speeds_line(speeds_before) + " (before)", flush=True)
     cases = args.cases.split(",")
+    pin = None
+    if args.pin is not None and not args.side_by_side:
+        if args.pin == "fastest":
+            if speeds_before is None:
+                raise SystemExit("--pin fastest: the core speeds could not be probed")
+            pin = int(max(speeds_before["rates"], key=speeds_before["rates"].get))
+        else:
+            pin = int(args.pin)
+        print(f"every process pinned to core {pin}", flush=True)
     samples = {c: {"current": [], "baseline": []} for c in cases}
     try:
         for r in range(args.rounds):
@@ -265,7 +279,7 @@ def main(argv=None):
                     continue
                 for who, launcher in (("current", current), ("baseline", base)):
                     samples[c][who].append(run_case(launcher, c, args.steps,
-                                                    start_case(launcher, c, args.steps, None, args.sample_time)))
+                                                    start_case(launcher, c, args.steps, pin, args.sample_time)))
             print(f"round {r + 1}/{args.rounds}: " + ", ".join(
                 f"{c} {samples[c]['current'][-1]:.3g}/{samples[c]['baseline'][-1]:.3g}" for c in cases),
                 flush=True)
@@ -274,9 +288,9 @@ def main(argv=None):
     speeds_after = core_speeds()
     print(core_speeds_line(speeds_after) + " (after)", flush=True)
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
-           "side_by_side": bool(args.side_by_side), "core_speed_before": speeds_before,
+           "side_by_side": bool(args.side_by_side), "pinned_core": pin, "core_speed_before": speeds_before,
            "core_speed_after": speeds_after, "cases": {}}
-    how = "side-by-side" if args.side_by_side else "interleaved"
+    how = "side-by-side" if args.side_by_side else ("interleaved" if pin is None else f"interleaved, core {pin}")
     print(f"\nparticle-steps per CPU-second (fig4_run: runs per CPU-second), median of {args.rounds} {how} rounds")
     print(f"{'case':14s} {'current':>10s} {'baseline':>10s} {'ratio':>7s}  per-round ratios: "
           "min-max, median (68 % bootstrap interval)")

@@ -2,7 +2,7 @@
 against LAMMPS on the same machine (one core).
 
 Run:  build/pymarble bench/dpd_throughput.py [--quick] [--no-lammps] [--lj-only] [--out DIR]
-      build/pymarble bench/dpd_throughput.py --baseline [REF] [--baseline-build DIR] [--rounds N] [--side-by-side]
+      build/pymarble bench/dpd_throughput.py --baseline [REF] [--baseline-build DIR] [--rounds N] [--side-by-side | --pin CORE|fastest]
 
 With --baseline the bench instead builds the git ref REF (default: BASELINE_REF,
 the last commit before the speed work of issue E) in a temporary directory and
@@ -260,6 +260,8 @@ def run_baseline(args):
         argv += ["--baseline-build", args.baseline_build]
     if args.side_by_side:
         argv += ["--side-by-side"]
+    if args.pin is not None:
+        argv += ["--pin", args.pin]
     out = compare_builds.main(argv)
     for c, r in out["cases"].items():
         # side by side: the swapped-core pairs' median (the medians of the
@@ -288,6 +290,9 @@ def main():
                     help="--baseline: each round runs the two builds at the same time, each pinned to its own "
                          "core, the cores swapped every round (compare_builds.py --side-by-side): for a machine "
                          "whose cores differ in speed (the core-speed probe says so)")
+    ap.add_argument("--pin", default=None, metavar="CORE",
+                    help="--baseline: run every round on this core, or 'fastest' (the core the speed probe "
+                         "found fastest): both builds on one core, one at a time")
     args = ap.parse_args()
     if args.baseline is not None:
         return run_baseline(args)
