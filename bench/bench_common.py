@@ -1,7 +1,7 @@
 """Shared by the benches: the machine record every result file carries."""
+import json
 import os
 import platform
-import json
 import re
 import subprocess
 import sys
@@ -73,10 +73,16 @@ def core_speeds_line(cs):
            f"slowest {100 * cs['spread']:.1f} % below the fastest{warn}"
 
 
-def machine_info(core_speed=False):
-    """CPU model, cores, load average, Python, git revision, features, build
-    options, date; with @p core_speed also each core's measured speed
-    (core_speeds, ~3 s), which the speed benches print and record."""
+def probe_cores(when=""):
+    """core_speeds(), printed as core_speeds_line (tagged "(@p when)" if
+    given): what the speed benches record before and after their runs."""
+    cs = core_speeds()
+    print(core_speeds_line(cs) + (f" ({when})" if when else ""), flush=True)
+    return cs
+
+
+def machine_info():
+    """CPU model, cores, load average, Python, git revision, features, build options, date."""
     cpu = platform.processor()
     try:
         with open("/proc/cpuinfo") as f:
@@ -92,8 +98,7 @@ def machine_info(core_speed=False):
     return dict(cpu=cpu, cores=os.cpu_count(), load_avg=list(os.getloadavg()),
                 python=platform.python_version(), marble_git=rev,
                 features=sorted(marble.features()), build_options=marble.build_options(),
-                date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-                **(dict(core_speed=core_speeds()) if core_speed else {}))
+                date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
 
 
 def lj_fcc_system(ncell, rng):

@@ -249,19 +249,24 @@ def main(argv=None):
         return worker(args.worker, args.steps)
     if not args.sample_time > 0:
         raise SystemExit(f"--sample-time must be > 0 tau, got {args.sample_time}")
+    if args.pin is not None:  # (checked before the baseline is built)
+        if args.side_by_side:
+            raise SystemExit("--pin and --side-by-side exclude each other (side by side pins each build itself)")
+        allowed = sorted(os.sched_getaffinity(0))
+        if args.pin != "fastest" and not (args.pin.isdigit() and int(args.pin) in allowed):
+            raise SystemExit(f"--pin must be 'fastest' or one of the cores {allowed}, got {args.pin!r}")
     current, base, tmp = current_and_baseline(args.baseline, args.baseline_build)
-    from bench_common import core_speeds, core_speeds_line
-    speeds_before = core_speeds()  # with this build: the probe measures the cores, not the builds
-    print(core_speeds_line(speeds_before) + " (before)", flush=True)
+    from bench_common import probe_cores
+    speeds_before = probe_cores("before")  # with this build: the probe measures the cores, not the builds
     cases = args.cases.split(",")
     pin = None
-    if args.pin is not None and not args.side_by_side:
-        if args.pin == "fastest":
-            if speeds_before is None:
-                raise SystemExit("--pin fastest: the core speeds could not be probed")
-            pin = int(max(speeds_before["rates"], key=speeds_before["rates"].get))
-        else:
-            pin = int(args.pin)
+    if args.pin == "fastest":
+        if speeds_before is None:
+            raise SystemExit("--pin fastest: the core speeds could not be probed")
+        pin = int(max(speeds_before["rates"], key=speeds_before["rates"].get))
+    elif args.pin is not None:
+        pin = int(args.pin)
+    if pin is not None:
         print(f"every process pinned to core {pin}", flush=True)
     samples = {c: {"current": [], "baseline": []} for c in cases}
     try:
@@ -285,8 +290,7 @@ def main(argv=None):
                 flush=True)
     finally:
         remove_ref(tmp)
-    speeds_after = core_speeds()
-    print(core_speeds_line(speeds_after) + " (after)", flush=True)
+    speeds_after = probe_cores("after")
     out = {"baseline": args.baseline, "rounds": args.rounds, "steps": args.steps,
            "side_by_side": bool(args.side_by_side), "pinned_core": pin, "core_speed_before": speeds_before,
            "core_speed_after": speeds_after, "cases": {}}

@@ -85,9 +85,8 @@ def main():
     if (os.cpu_count() or 1) < 2:
         sys.exit("concurrency_cap.py needs two cores")
     sys.path.insert(0, HERE)
-    from bench_common import core_speeds, core_speeds_line
-    speeds = [core_speeds()]
-    print(core_speeds_line(speeds[0]) + " (before)", flush=True)
+    from bench_common import probe_cores
+    speeds = [probe_cores("before")]
     alone, pairs = [], []  # alone: [core 0, core 1] per round
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(args.repeats):
@@ -96,8 +95,7 @@ def main():
             r = statistics.mean(q / a for q, a in zip(pairs[-1], alone[-1]))
             print(f"round {k}: alone {alone[-1][0]:.3e} / {alone[-1][1]:.3e}  two at once "
                   f"{pairs[-1][0]:.3e} / {pairs[-1][1]:.3e}  -> {r:.3f} of alone", flush=True)
-    speeds.append(core_speeds())
-    print(core_speeds_line(speeds[1]) + " (after)", flush=True)
+    speeds.append(probe_cores("after"))
     ratios = [statistics.mean(q / x for q, x in zip(qs, a)) for a, qs in zip(alone, pairs)]
     res = dict(integrator=args.integrator, size=args.size, steps=args.steps, alone=alone, pairs=pairs,
                ratios=ratios, ratio_median=statistics.median(ratios),

@@ -41,7 +41,7 @@ import numpy as np
 
 import marble
 
-from bench_common import core_speeds_line, machine_info
+from bench_common import machine_info, probe_cores
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -299,11 +299,11 @@ def main():
     quick = args.quick
     rounds = 3 if quick else 5
     os.makedirs(args.out, exist_ok=True)
-    out = dict(machine=machine_info(core_speed=True), quick=quick, rounds=rounds, dpd={}, skin_scan={}, lj={},
+    out = dict(machine=machine_info(), quick=quick, rounds=rounds, dpd={}, skin_scan={}, lj={},
                lammps={})
     log(f"machine: {out['machine']['cpu']}, {out['machine']['cores']} cores, "
         f"load {out['machine']['load_avg'][0]:.2f}")
-    log(core_speeds_line(out["machine"]["core_speed"]))
+    out["machine"]["core_speed"] = probe_cores()
 
     # ---- LAMMPS availability --------------------------------------------
     exe = None if args.no_lammps else lammps_exe()

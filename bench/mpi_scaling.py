@@ -219,9 +219,9 @@ def main():
     if a.sizes:
         cases = {L: s for L, s in cases.items() if L in a.sizes}
     rounds = 2 if a.quick else 3
-    from bench_common import core_speeds, core_speeds_line, machine_info
-    machine = machine_info(core_speed=True)
-    print(core_speeds_line(machine["core_speed"]) + " (before)", flush=True)
+    from bench_common import machine_info, probe_cores
+    machine = machine_info()
+    machine["core_speed"] = probe_cores("before")
     machine["load_avg_before"] = machine.pop("load_avg")
     counters0 = cpu_counters()
     res = dict(machine=machine,
@@ -287,8 +287,7 @@ def main():
                                      comm_kinds_per_launch=kinds[n])
         res["cases"][f"L{L:g}"] = case
     res["machine"]["load_avg_after"] = os.getloadavg()
-    res["machine"]["core_speed_after"] = core_speeds()
-    print(core_speeds_line(res["machine"]["core_speed_after"]) + " (after)", flush=True)
+    res["machine"]["core_speed_after"] = probe_cores("after")
     # the cores' speeds, before and after: a rank on a slower core makes its
     # partner wait, which no load or steal figure shows (session 27)
     spreads = [c["spread"] for c in (res["machine"]["core_speed"], res["machine"]["core_speed_after"])
