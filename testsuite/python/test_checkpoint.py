@@ -440,7 +440,6 @@ def test_load_balance_settings_in_core_blob():
     the same settings; a blob of format 6 loads without an automatic
     balance; a bad value in the blob is refused, nothing changed."""
     import struct
-    import zlib
     s, _, _ = make_scene("vv")
     s.cell_system.set_load_balance(25, by="pairs", damping=0.3, threshold=0.2)
     want = s.cell_system.get_load_balance()
@@ -457,14 +456,11 @@ def test_load_balance_settings_in_core_blob():
     s3.cell_system.set_load_balance(25, by="pairs", damping=0.3, threshold=0.2)
     assert s3._core.get_checkpoint_state() == blob
     # damping 0 in the blob (set_load_balance allows (0, 1]): refused as corrupt
-    head = 8 + 4 + 8 + 4
-    bad = bytearray(blob)
-    at = bytes(bad).find(struct.pack("<iidd", 25, 2, 0.3, 0.2), head)
-    assert at > 0
-    bad[at + 8:at + 16] = struct.pack("<d", 0.0)
-    p = bytes(bad[head:])
-    bad[8:head] = struct.pack("<IQI", 7, len(p), zlib.crc32(p))
+    before_g, g, rest = _global_block(blob)
+    at = len(g) - 32 + 8  # the damping: after every and by
+    assert struct.unpack_from("<d", g, at)[0] == 0.3
+    bad = _with_global_block(blob, 7, before_g, g[:at] + struct.pack("<d", 0.0) + g[at + 8:], rest)
     before = s2._core.get_checkpoint_state()
     with pytest.raises(RuntimeError, match="load-balance settings"):
-        s2._core.set_checkpoint_state(bytes(bad))
+        s2._core.set_checkpoint_state(bad)
     assert s2._core.get_checkpoint_state() == before
