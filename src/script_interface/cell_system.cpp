@@ -26,6 +26,11 @@ void bind_cell_system(py::class_<System> &cls) {
         s.set_skin(skin);
       });
   cls.def("n_rebuilds", [](System &s) { return s.cells().n_rebuilds(); });
+  // 0: rebuild only if a pair may be missing ("pairs"), 1: at half the skin ("half_skin")
+  cls.def_property(
+      "list_check", [](System const &s) { return static_cast<int>(s.list_check()); },
+      [](System &s, int c) { s.set_list_check(c == 0 ? System::ListCheck::Pairs : System::ListCheck::HalfSkin); });
+  cls.def("pair_test_applies", &System::pair_test_applies);
   cls.def("node_grid", [](System &s) { return s.cells().node_grid(s.box()); });
   cls.def("local_domain", [](System &s) {
     auto const d = s.cells().local_domain(s.box());

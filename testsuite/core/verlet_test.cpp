@@ -198,10 +198,20 @@ TEST_P(VerletVsBrute, SameInteractingImages) {
   s.ensure_lists();
   EXPECT_EQ(s.cells().n_rebuilds(), rebuilds);
   EXPECT_EQ(list_triples(s, c.cut), brute_triples(s, c.cut));
-  // one more move beyond skin/2 triggers a rebuild
+  // one more move beyond skin/2: the pair test (the default, where it
+  // applies) rebuilds only if a pair may be missing, the half-skin rule
+  // always; either way the list holds every pair now within the cutoff
   ps.pos[0] = ps.pos_at_rebuild[0] + Vector3d{0.51 * c.skin, 0., 0.};
   s.ensure_lists();
-  EXPECT_EQ(s.cells().n_rebuilds(), rebuilds + 1);
+  if (!s.pair_test_applies()) {
+    EXPECT_EQ(s.cells().n_rebuilds(), rebuilds + 1);
+  }
+  EXPECT_EQ(list_triples(s, c.cut), brute_triples(s, c.cut));
+  s.set_list_check(System::ListCheck::HalfSkin);
+  long const r = s.cells().n_rebuilds();
+  ps.pos[0] = ps.pos_at_rebuild[0] + Vector3d{0.51 * c.skin, 0., 0.};
+  s.ensure_lists();
+  EXPECT_EQ(s.cells().n_rebuilds(), r + 1);
   EXPECT_EQ(list_triples(s, c.cut), brute_triples(s, c.cut));
 }
 

@@ -201,6 +201,29 @@ def scene_blowup():
     return s, dict(msg=np.array(msg), step=np.array(s.step))
 
 
+def _fluid_with_list_check(check):
+    """A DPD fluid (L = 8, VV) whose lists outlive the half-skin mark under
+    cell_system.list_check = "pairs": the hot particles of every rank are
+    compared with each rank's warm ones, one vote per check."""
+    s = fluid(8.0, seed=6)
+    s.cell_system.list_check = check
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    s.integrator.run(150)
+    st = s.cell_system.get_state()
+    parts = s.part.all()
+    return s, dict(ids=parts.id, pos=parts.pos, v=parts.v, f=parts.f,
+                   rebuilds=np.array(st["verlet_rebuilds"] - r0),
+                   pair_test=np.array(st["pair_test_applies"]))
+
+
+def scene_fluid_pairs():
+    return _fluid_with_list_check("pairs")
+
+
+def scene_fluid_half_skin():
+    return _fluid_with_list_check("half_skin")
+
+
 def scene_dpd_vv():
     """DPD-VV (the friction pass needs the ghosts' velocity change and sends
     the ghosts' friction back), with a marble."""

@@ -279,9 +279,9 @@ def test_older_format_version_refused():
     blob = bytearray(s._core.get_checkpoint_state())
     before = bytes(blob)
     version_at = 8  # after the 8-byte magic
-    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 7
+    assert int.from_bytes(blob[version_at:version_at + 4], "little") == 8
     blob[version_at:version_at + 4] = (2).to_bytes(4, "little")
-    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 7"):
+    with pytest.raises(RuntimeError, match="format version 2, this build reads versions 3 to 8"):
         s._core.set_checkpoint_state(bytes(blob))
     assert s._core.get_checkpoint_state() == before
 
@@ -316,9 +316,9 @@ def _as_version_3(blob):
     large-range types (i32 mode, u64 count, count bytes) to the global block."""
     import struct
     before, g, rest = _global_block(blob)
-    # format 7 appended the automatic load balance (i32 every, i32 by, f64 damping, f64 threshold,
-    # i64 count of balances)
-    g = g[:len(g) - 32]
+    # format 8 appended the Verlet list check (i32), format 7 the automatic load balance (i32
+    # every, i32 by, f64 damping, f64 threshold, i64 count of balances)
+    g = g[:len(g) - 4 - 32]
     # format 6 appended the domain planes (three u64 counts and doubles; equal domains here: empty)
     assert g[len(g) - 24:] == bytes(24)
     g = g[:len(g) - 24]
@@ -410,6 +410,7 @@ def test_format_3_blob_loads_as_auto():
     s2._core.set_checkpoint_state(old)
     assert s2.cell_system.large_range_types == "auto"
     s2.cell_system.large_range_types = None
+    s2.cell_system.list_check = "pairs"  # (older blobs load with the half-skin check)
     assert s2._core.get_checkpoint_state() == blob
 
 
@@ -425,10 +426,20 @@ def test_old_pickle_attribute_restores_the_setting():
     assert "_large_range_types" not in s2.__dict__
 
 
+def _as_version_7(blob):
+    """The format-7 blob of the same state: format 8 appended the Verlet list
+    check (i32) to the global block (no Lees-Edwards tail here)."""
+    import struct
+    before, g, rest = _global_block(blob)
+    check, = struct.unpack_from("<i", g, len(g) - 4)
+    return _with_global_block(blob, 7, before, g[:-4], rest), check
+
+
 def _as_version_6(blob):
     """The format-6 blob of the same state: format 7 appended the automatic
     load balance (32 bytes) to the global block (no Lees-Edwards tail here)."""
     import struct
+    blob, _ = _as_version_7(blob)
     before, g, rest = _global_block(blob)
     fields = struct.unpack_from("<iiddq", g, len(g) - 32)  # every, by, damping, threshold, count
     return _with_global_block(blob, 6, before, g[:-32], rest), fields
@@ -454,13 +465,44 @@ def test_load_balance_settings_in_core_blob():
     s3._core.set_checkpoint_state(old)
     assert s3.cell_system.get_load_balance()["every"] == 0
     s3.cell_system.set_load_balance(25, by="pairs", damping=0.3, threshold=0.2)
+    s3.cell_system.list_check = "pairs"  # (a format-6 blob loads with the half-skin check)
     assert s3._core.get_checkpoint_state() == blob
     # damping 0 in the blob (set_load_balance allows (0, 1]): refused as corrupt
     before_g, g, rest = _global_block(blob)
-    at = len(g) - 32 + 8  # the damping: after every and by
+    at = len(g) - 4 - 32 + 8  # the damping: after every and by (and before the list check)
     assert struct.unpack_from("<d", g, at)[0] == 0.3
-    bad = _with_global_block(blob, 7, before_g, g[:at] + struct.pack("<d", 0.0) + g[at + 8:], rest)
+    bad = _with_global_block(blob, 8, before_g, g[:at] + struct.pack("<d", 0.0) + g[at + 8:], rest)
     before = s2._core.get_checkpoint_state()
     with pytest.raises(RuntimeError, match="load-balance settings"):
+        s2._core.set_checkpoint_state(bad)
+    assert s2._core.get_checkpoint_state() == before
+
+
+def test_list_check_in_core_blob():
+    """cell_system.list_check is part of the core blob (format 8): a System
+    restored from it reports the same check; a blob of format 7 (written by a
+    build that had only the half-skin test) loads with "half_skin"; a bad
+    value in the blob is refused, nothing changed."""
+    import struct
+    s, _, _ = make_scene("vv")
+    assert s.cell_system.list_check == "pairs"
+    for check in ("half_skin", "pairs"):
+        s.cell_system.list_check = check
+        blob = s._core.get_checkpoint_state()
+        s2 = marble.System(box_l=[4.0] * 3)
+        s2._core.set_checkpoint_state(blob)
+        assert s2.cell_system.list_check == check
+        assert pickle.loads(pickle.dumps(s)).cell_system.list_check == check
+    old, check = _as_version_7(blob)
+    assert check == 0  # pairs
+    s3 = marble.System(box_l=[4.0] * 3)
+    s3._core.set_checkpoint_state(old)
+    assert s3.cell_system.list_check == "half_skin"
+    s3.cell_system.list_check = "pairs"
+    assert s3._core.get_checkpoint_state() == blob
+    before_g, g, rest = _global_block(blob)
+    bad = _with_global_block(blob, 8, before_g, g[:-4] + struct.pack("<i", 5), rest)
+    before = s2._core.get_checkpoint_state()
+    with pytest.raises(RuntimeError, match="Verlet list check"):
         s2._core.set_checkpoint_state(bad)
     assert s2._core.get_checkpoint_state() == before

@@ -208,6 +208,21 @@ def test_blowup_stops_every_rank_cleanly():
     assert int(res["step"]) == 10  # the refused step changed nothing; 10 more steps ran
 
 
+@needs("DPD")
+def test_list_check_pairs_1_vs_2_vs_3_ranks():
+    """cell_system.list_check = "pairs" on several ranks: the same trajectory
+    as on one rank (1e-9) and the same rebuild steps, fewer than under the
+    half-skin rule (so the lists were kept past it, across the domain faces)."""
+    runs = {n: run("fluid_pairs", n) for n in (1, 2, 3)}
+    for n in (2, 3):
+        assert bool(runs[n]["pair_test"])
+        assert_same_trajectory(runs[1], runs[n])
+        assert int(runs[n]["rebuilds"]) == int(runs[1]["rebuilds"])
+    half = run("fluid_half_skin", 2)
+    assert int(runs[2]["rebuilds"]) < int(half["rebuilds"]), (runs[2]["rebuilds"], half["rebuilds"])
+    assert_same_trajectory(runs[2], half, tol=1e-6)  # (another list order: round-off, grown over 150 steps)
+
+
 @needs("MARBLE", "DPD")
 def test_dpd_vv_1_vs_2_ranks():
     one, two = run("dpd_vv", 1), run("dpd_vv", 2)

@@ -1420,7 +1420,9 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
   if (parallel()) {
     // neighbours: within the ghost range (every ghost goes to one) and 1.5
     // skins (every particle moved by a run between two rebuilds stays among them)
-    update_neighbour_ranks(box, std::max({m_range, m_range_ll, m_range_ls, 1.5 * m_skin}));
+    // (2 skins: the pair test lets a local move up to a skin before the last
+    // step of a list, which adds at most another: integrate.cpp refuses more)
+    update_neighbour_ranks(box, std::max({m_range, m_range_ll, m_range_ls, 2. * m_skin}));
     migrate(ps, box);
   }
   sort_locals(ps, box);
@@ -1428,6 +1430,10 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
     ps.pos_at_rebuild[i] = ps.pos[i];
   make_ghosts(ps, box);
   build_pairs(ps, box);
+  m_box_l = box.length();
+  for (int d = 0; d < 3; ++d)
+    m_box_periodic[d] = box.periodic(d);
+  m_n_global_at_build = m_comm ? m_comm->sum(static_cast<long long>(ps.n_local())) : ps.n_local();
   m_valid = true;
   ++m_n_rebuilds;
 }
@@ -1656,6 +1662,173 @@ bool CellSystem::displacement_exceeds_half_skin(ParticleStore const &ps) const {
       break;
     }
   return m_comm ? m_comm->any(exceeded) : exceeded;
+}
+
+bool CellSystem::pair_test_applies() const {
+  if (m_le_images || !m_wide.empty() || !(m_range > 0.) || !(m_inner_cut > 0.))
+    return false;
+  for (int d = 0; d < 3; ++d)
+    if (m_box_periodic[d] && !(m_box_l[d] >= 3. * m_range))
+      return false;
+  return true;
+}
+
+bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp2) const {
+  int const n = ps.n_local();
+  auto const *const x = ps.pos.data();
+  auto const *const x0 = ps.pos_at_rebuild.data();
+  m_fast_d2.resize(static_cast<std::size_t>(n));
+  float *const dd2 = m_fast_d2.data();
+  float const *src = disp2;
+  if (!src) {
+    for (int i = 0; i < n; ++i)
+      dd2[i] = static_cast<float>((x[i] - x0[i]).norm2());
+    src = dd2;
+  }
+  float fmax2 = 0.f;
+  bool nan = false;
+  for (int i = 0; i < n; ++i) {
+    fmax2 = src[i] > fmax2 ? src[i] : fmax2;
+    nan |= src[i] != src[i];
+  }
+  if (nan)
+    fmax2 = std::numeric_limits<float>::infinity(); // (then: rebuild, on every rank)
+  // (float: relative error < 1e-7; every threshold below allows 1e-6)
+  double const dmax2 = static_cast<double>(fmax2) * (1. + 1e-6);
+  bool const par = m_comm && m_comm->parallel();
+  double const dmax = par ? m_comm->max(std::sqrt(dmax2)) : std::sqrt(dmax2);
+  // A missing pair (i, j) was at least the range apart at the build and is
+  // now within max_cut: |dx_i - dx_j| > skin, so d_i + d_j > skin. Say
+  // d_i >= d_j: then d_i > skin/2 (i is "hot") and d_j > skin - d_i >=
+  // skin - d_max (j is "warm"; hot ones are warm too). So every hot particle
+  // of every rank is compared with the warm locals near it.
+  double const eps = 1e-9 * m_skin;
+  double const thr = m_skin - dmax - eps;
+  if (!(thr > 0.))
+    return true; // some local moved (almost) a skin: rebuild
+  if (!(dmax > 0.5 * m_skin))
+    return false;
+  double const thr2 = thr * thr, hot2 = (0.5 * m_skin - eps) * (0.5 * m_skin - eps);
+  // records: x0, x, d, id
+  constexpr int R = 8;
+  m_fast.clear();
+  m_hot.clear();
+  float const thr2f = static_cast<float>(thr2 * (1. - 1e-6));
+  for (int i = 0; i < n; ++i) {
+    if (src[i] > thr2f) {
+      double const d2 = (x[i] - x0[i]).norm2();
+      double const rec[R] = {x0[i][0], x0[i][1], x0[i][2], x[i][0], x[i][1], x[i][2],
+                             std::sqrt(d2), static_cast<double>(ps.id[i])};
+      m_fast.insert(m_fast.end(), rec, rec + R);
+      if (d2 > hot2)
+        m_hot.insert(m_hot.end(), rec, rec + R);
+    }
+  }
+  std::vector<double> gathered;
+  if (par)
+    gathered = m_comm->allgatherv(m_hot);
+  std::vector<double> const &hot = par ? gathered : m_hot;
+  long long const n_hot = static_cast<long long>(hot.size() / R);
+  // more than 1/128 of the particles hot: the test would cost more than it
+  // saves (doc/benchmarks.md: the list life against the rate, session 29)
+  if (128 * n_hot > m_n_global_at_build)
+    return true;
+  long long const n_warm = static_cast<long long>(m_fast.size() / R);
+  double const cut2 = m_inner_cut * m_inner_cut * (1. + 1e-12);
+  double const range2 = m_range * m_range * (1. - 1e-12);
+  auto mi2 = [&](double const *a, double const *b) {
+    double r2 = 0.;
+    for (int d = 0; d < 3; ++d) {
+      // (one image shift suffices: positions lie within a few skins of the
+      // box and the box is 3 ranges wide, so a pair near half a box length
+      // is neither within max_cut nor was within the range)
+      double dd = a[d] - b[d];
+      double const L = m_box_l[d];
+      if (m_box_periodic[d])
+        dd = dd > 0.5 * L ? dd - L : (dd < -0.5 * L ? dd + L : dd);
+      r2 += dd * dd;
+    }
+    return r2;
+  };
+  // hot record h against warm record w: both moved that far, not the same
+  // particle, now within max_cut, at the build at least the range apart
+  auto missing = [&](double const *h, double const *w) {
+    return h[6] + w[6] > m_skin - eps && h[7] != w[7] && mi2(h + 3, w + 3) < cut2 && mi2(h, w) >= range2;
+  };
+  bool found = false;
+  if (n_hot * n_warm <= 256) { // (a few: all against all)
+    for (long long a = 0; a < n_hot && !found; ++a)
+      for (long long b = 0; b < n_warm && !found; ++b)
+        found = missing(hot.data() + R * a, m_fast.data() + R * b);
+    return par ? m_comm->any(found) : found;
+  }
+  // the warm locals in a grid of cells at least max_cut wide over their
+  // current positions (about two cells per warm local)
+  double const vol = m_box_l[0] * m_box_l[1] * m_box_l[2];
+  double const side = std::max(std::cbrt(vol / static_cast<double>(2 * n_warm + 1)), m_inner_cut);
+  std::array<int, 3> nc{};
+  for (int d = 0; d < 3; ++d)
+    nc[d] = static_cast<int>(std::clamp(std::floor(m_box_l[d] / side), 1., 1024.));
+  int const n_cells = nc[0] * nc[1] * nc[2];
+  auto coord = [&](double v, int d) {
+    double const L = m_box_l[d];
+    if (m_box_periodic[d])
+      v -= L * std::floor(v / L);
+    // (clamped: still within one cell of every position closer than a cell)
+    return std::clamp(static_cast<int>(std::floor(v / L * nc[d])), 0, nc[d] - 1);
+  };
+  m_fast_cell.resize(static_cast<std::size_t>(n_warm));
+  m_fast_start.assign(static_cast<std::size_t>(n_cells) + 1, 0);
+  for (long long a = 0; a < n_warm; ++a) {
+    double const *p = m_fast.data() + R * a + 3;
+    int const c = (coord(p[2], 2) * nc[1] + coord(p[1], 1)) * nc[0] + coord(p[0], 0);
+    m_fast_cell[static_cast<std::size_t>(a)] = c;
+    ++m_fast_start[static_cast<std::size_t>(c) + 1];
+  }
+  for (int c = 0; c < n_cells; ++c)
+    m_fast_start[c + 1] += m_fast_start[c];
+  // the warm records in cell order, and their displacements apart (the
+  // first filter reads these in a row)
+  m_fast_sorted.resize(m_fast.size());
+  m_fast_dsorted.resize(static_cast<std::size_t>(n_warm));
+  m_fast_order.assign(m_fast_start.begin(), m_fast_start.end() - 1); // (fill positions)
+  for (long long a = 0; a < n_warm; ++a) {
+    int const k = m_fast_order[static_cast<std::size_t>(m_fast_cell[a])]++;
+    std::copy_n(m_fast.data() + R * a, R, m_fast_sorted.data() + R * k);
+    m_fast_dsorted[static_cast<std::size_t>(k)] = m_fast[R * a + 6];
+  }
+  double const *const wd = m_fast_dsorted.data();
+  double const need = m_skin - eps;
+  for (long long a = 0; a < n_hot && !found; ++a) {
+    double const *h = hot.data() + R * a;
+    // the cells next to the hot particle's along each axis, each once: with
+    // fewer than 3 cells along an axis, all of them
+    std::array<std::array<int, 3>, 3> near{};
+    std::array<int, 3> n_near{};
+    for (int d = 0; d < 3; ++d) {
+      int const c = coord(h[3 + d], d);
+      if (nc[d] < 3) {
+        for (int t = 0; t < nc[d]; ++t)
+          near[d][n_near[d]++] = t;
+        continue;
+      }
+      for (int t = c - 1; t <= c + 1; ++t)
+        if (t >= 0 && t < nc[d])
+          near[d][n_near[d]++] = t;
+        else if (m_box_periodic[d])
+          near[d][n_near[d]++] = (t + nc[d]) % nc[d];
+    }
+    double const need_w = need - h[6];
+    for (int iz = 0; iz < n_near[2] && !found; ++iz)
+      for (int iy = 0; iy < n_near[1] && !found; ++iy)
+        for (int ix = 0; ix < n_near[0] && !found; ++ix) {
+          int const c2 = (near[2][iz] * nc[1] + near[1][iy]) * nc[0] + near[0][ix];
+          for (int k = m_fast_start[c2]; k < m_fast_start[c2 + 1] && !found; ++k)
+            if (wd[k] > need_w)
+              found = missing(h, m_fast_sorted.data() + R * k);
+        }
+  }
+  return par ? m_comm->any(found) : found;
 }
 
 } // namespace Marble

@@ -174,6 +174,21 @@ public:
   /** True if some local (on any rank) moved more than skin/2 since the last rebuild. Collective.
    * With Lees-Edwards: more than (skin - |offset change since the build|) / 2. */
   bool displacement_exceeds_half_skin(ParticleStore const &ps) const;
+  /** Whether the pair test below applies to the last build: no Lees-Edwards
+   * images, no large-range types, and every periodic box length at least 3
+   * pair ranges (one image of a pair within reach). */
+  bool pair_test_applies() const;
+  /** The list's exact test (doc/benchmarks.md "The Verlet list's life"),
+   * called once some local has moved more than skin/2 since the build: true
+   * if some pair within the rebuild's max_cut now may be missing from the
+   * list, i.e. a pair whose distance at the build was at least the range
+   * (cut + skin) is now closer than max_cut, or the fastest local has moved
+   * a whole skin. Such a pair moved apart by more than the skin, so both its
+   * particles moved more than skin - d_max: only those are compared (all
+   * ranks' ones, minimum images). Also true if they are more than an eighth
+   * of all particles (then a rebuild is cheaper than the test). Collective;
+   * needs pair_test_applies(). */
+  bool pairs_may_be_missing(ParticleStore const &ps, float const *disp2 = nullptr) const;
 
   // --- Lees-Edwards (box/LeesEdwards.hpp; no marble colloids; several ranks: node_grid splits the vorticity axis only) ---
   /** The current Lees-Edwards state (offset, shear velocity) for the ghost
@@ -387,6 +402,13 @@ private:
 
   double m_skin = 0.4;
   double m_range = 0.;
+  // the box of the last build and the particle count over all ranks (pairs_may_be_missing)
+  Utils::Vector3d m_box_l{1., 1., 1.};
+  std::array<bool, 3> m_box_periodic{true, true, true};
+  long long m_n_global_at_build = 0;
+  mutable std::vector<double> m_fast, m_hot, m_fast_sorted, m_fast_dsorted; // pairs_may_be_missing: scratch
+  mutable std::vector<float> m_fast_d2;
+  mutable std::vector<int> m_fast_cell, m_fast_start, m_fast_order;
   bool m_valid = false;
   long m_n_rebuilds = 0;
   std::array<int, 3> m_n_cells{1, 1, 1};

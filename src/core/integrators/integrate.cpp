@@ -158,7 +158,24 @@ void System::drift_checked(bool kick_first) {
     moved = !(b > 0.);
     lim2 = b * b;
   }
-  if (kick_first) {
+  bool const keep_d2 = pair_test_applies();
+  m_disp2.resize(keep_d2 ? static_cast<std::size_t>(n) : 0);
+  float *const d2s = m_disp2.data();
+  if (kick_first && keep_d2) {
+    for (int i = 0; i < n; ++i) {
+      am[i] = kick_particle(m_ps, i, half_dt);
+      Vector3d dv, dx;
+      step_of(i, dv, dx);
+      double const disp2 = dx.norm2();
+      if (!(disp2 <= max2) && bad < 0) { // also catches NaN
+        bad = i;
+        bad_disp2 = disp2;
+      }
+      double const m2 = (x[i] + dx - x0[i]).norm2();
+      d2s[i] = static_cast<float>(m2);
+      moved |= m2 > lim2;
+    }
+  } else if (kick_first) {
     for (int i = 0; i < n; ++i) {
       am[i] = kick_particle(m_ps, i, half_dt);
       Vector3d dv, dx;
@@ -201,6 +218,7 @@ void System::drift_checked(bool kick_first) {
 #endif
   }
   m_displacement_hint = vote; // already agreed by all ranks
+  m_disp2_fresh = keep_d2 && kick_first;
 }
 
 // The refusal of a step (collective: every rank got vote 2): the message

@@ -255,6 +255,9 @@ struct CheckpointAccess {
     // automatic balance)
     System::BalanceSettings balance;
     std::int64_t n_balances = 0;
+    // when a Verlet list is rebuilt (cell_system.list_check; format version
+    // 8; before: at half the skin, the only test the writing build had)
+    System::ListCheck list_check = System::ListCheck::HalfSkin;
     // Lees-Edwards (an optional tail of the global block, written only when
     // it is on: blobs without it are unchanged)
     LeesEdwardsProtocol le;
@@ -295,6 +298,7 @@ struct CheckpointAccess {
     o.pod(s.m_balance.damping);
     o.pod(s.m_balance.threshold);
     o.pod(static_cast<std::int64_t>(s.m_n_balances));
+    o.pod(static_cast<std::int32_t>(s.m_list_check)); // format version 8
     if (s.m_le_protocol.kind != LeesEdwardsProtocol::Off) { // Lees-Edwards tail
       auto const &p = s.m_le_protocol;
       o.pod(static_cast<std::int32_t>(p.kind));
@@ -362,6 +366,12 @@ struct CheckpointAccess {
           by > static_cast<int>(System::BalanceBy::Pairs) || !(g.balance.damping > 0. && g.balance.damping <= 1.) ||
           !(g.balance.threshold >= 0.) || g.n_balances < 0)
         corrupt("bad load-balance settings of the cell system");
+    }
+    if (version >= 8) {
+      auto const lc = in.pod<std::int32_t>();
+      if (lc != static_cast<int>(System::ListCheck::Pairs) && lc != static_cast<int>(System::ListCheck::HalfSkin))
+        corrupt("bad Verlet list check of the cell system");
+      g.list_check = static_cast<System::ListCheck>(lc);
     }
     if (!in.done()) { // the Lees-Edwards tail
       g.le.kind = in.pod<std::int32_t>();
@@ -600,6 +610,7 @@ struct CheckpointAccess {
     s.m_cells.set_domain_fractions(g.domain_fractions); // (after set_skin: invalidates the lists again)
     s.m_balance = g.balance;
     s.m_n_balances = static_cast<long>(g.n_balances);
+    s.m_list_check = g.list_check;
     s.reset_balance_clock(); // a balance by time measures from the load on
     s.m_dpd_in_pair_loop = g.dpd_in_pair_loop != 0;
     s.m_thermo = g.thermo;

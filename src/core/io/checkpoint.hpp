@@ -33,10 +33,11 @@ namespace Checkpoint {
 // per-particle gamma; 4: the requested large-range types of the cell system
 // (cell_system.large_range_types); 5: the integrator's RESPA substeps; 6: the
 // domain planes (cell_system.domain_cuts); 7: the automatic load balance
-// (set_load_balance) and its count of balances. Blobs of version 3 still load
-// (as "auto"; 3 and 4 with substeps = 1; before 6 equal domains, before 7 no
-// automatic balance).
-inline constexpr std::uint32_t format_version = 7;
+// (set_load_balance) and its count of balances; 8: the Verlet list check
+// (cell_system.list_check). Blobs of version 3 still load (as "auto"; 3 and 4
+// with substeps = 1; before 6 equal domains, before 7 no automatic balance,
+// before 8 the half-skin check their writer had).
+inline constexpr std::uint32_t format_version = 8;
 inline constexpr std::uint32_t oldest_readable_version = 3;
 
 /** CRC-32 (IEEE 802.3, as zlib.crc32) of @p n bytes. */

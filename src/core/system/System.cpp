@@ -202,8 +202,12 @@ void System::ensure_lists() {
   // of the last build (same test, same positions) and voted over the ranks
   int const hint = m_displacement_hint;
   m_displacement_hint = -1;
-  if (!m_cells.valid() || cut != m_cut_at_rebuild ||
-      (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps))) {
+  bool stale = !m_cells.valid() || cut != m_cut_at_rebuild;
+  if (!stale && (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps)))
+    // past half a skin: the pair test may keep the list (doc/benchmarks.md)
+    stale = !pair_test_applies() || m_cells.pairs_may_be_missing(m_ps, hint >= 0 && m_disp2_fresh ? m_disp2.data() : nullptr);
+  m_disp2_fresh = false;
+  if (stale) {
     // the inner list pays where lists live ~2 steps (Shardlow at its large dt; doc/benchmarks.md, session 15)
     m_cells.set_inner_list(m_integrator == IntegratorKind::Shardlow);
     m_cells.rebuild(m_ps, m_box, configure_large_range(cut));
@@ -214,6 +218,22 @@ void System::ensure_lists() {
   } else {
     m_cells.update_ghosts(m_ps);
   }
+}
+
+bool System::pair_test_applies() const {
+  if (m_list_check != ListCheck::Pairs || m_substeps != 1 ||
+      (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::DPDVV) ||
+      m_box.lees_edwards().active())
+    return false;
+#ifdef MARBLE
+  if (m_colloids.any())
+    return false;
+#endif
+#ifdef SRD
+  if (srd)
+    return false;
+#endif
+  return m_cells.pair_test_applies();
 }
 
 double System::configure_large_range(double cut) {

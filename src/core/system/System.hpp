@@ -127,6 +127,19 @@ public:
   std::uint64_t step() const { return m_step; }
   void set_skin(double s);
   double skin() const { return m_cells.skin(); }
+  /** When a Verlet list is rebuilt (doc/benchmarks.md "The Verlet list's
+   * life"): HalfSkin as soon as some particle has moved more than skin/2;
+   * Pairs (the default) then only if a pair may be missing from it
+   * (CellSystem::pairs_may_be_missing), where that test applies
+   * (pair_test_applies; elsewhere HalfSkin). Both give the same forces; the
+   * list order, and so the trajectories' last bits, differ. */
+  enum class ListCheck { Pairs, HalfSkin };
+  ListCheck list_check() const { return m_list_check; }
+  void set_list_check(ListCheck c) { m_list_check = c; }
+  /** Whether ensure_lists() uses the pair test now (ListCheck::Pairs, VV or
+   * DPD-VV without substeps, no Lees-Edwards, marble colloids, SRD or
+   * large-range types, and a box of at least 3 pair ranges). */
+  bool pair_test_applies() const;
 
   // --- particles ---
   ParticleStore &particles() { return m_ps; }
@@ -404,6 +417,9 @@ private:
    * not known); read and cleared by the next ensure_lists, which then skips
    * its own sweep and reduction. */
   int m_displacement_hint = -1;
+  ListCheck m_list_check = ListCheck::Pairs;
+  std::vector<float> m_disp2; // drift_checked: each local's squared displacement since the build
+  bool m_disp2_fresh = false;  // m_disp2 holds the current positions' (set by drift_checked)
   std::vector<double> m_half_dt_over_m; // drift_checked's 0.5 dt / m per local
   std::vector<Utils::Vector3d> m_respa_end_pos; // respa_member_substeps: outside particles' positions after the substeps
   int m_large_range_mode = -1;
