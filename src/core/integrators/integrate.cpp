@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace Marble {
@@ -158,10 +159,12 @@ void System::drift_checked(bool kick_first) {
     moved = !(b > 0.);
     lim2 = b * b;
   }
+  // the list's pair test (CellSystem::pairs_may_be_missing) reads the
+  // displacements this sweep computes, as floats
   bool const keep_d2 = pair_test_applies();
   m_disp2.resize(keep_d2 ? static_cast<std::size_t>(n) : 0);
   float *const d2s = m_disp2.data();
-  if (kick_first && keep_d2) {
+  auto kick_sweep = [&](auto keep) {
     for (int i = 0; i < n; ++i) {
       am[i] = kick_particle(m_ps, i, half_dt);
       Vector3d dv, dx;
@@ -172,21 +175,16 @@ void System::drift_checked(bool kick_first) {
         bad_disp2 = disp2;
       }
       double const m2 = (x[i] + dx - x0[i]).norm2();
-      d2s[i] = static_cast<float>(m2);
+      if constexpr (decltype(keep)::value)
+        d2s[i] = static_cast<float>(m2);
       moved |= m2 > lim2;
     }
-  } else if (kick_first) {
-    for (int i = 0; i < n; ++i) {
-      am[i] = kick_particle(m_ps, i, half_dt);
-      Vector3d dv, dx;
-      step_of(i, dv, dx);
-      double const disp2 = dx.norm2();
-      if (!(disp2 <= max2) && bad < 0) { // also catches NaN
-        bad = i;
-        bad_disp2 = disp2;
-      }
-      moved |= (x[i] + dx - x0[i]).norm2() > lim2;
-    }
+  };
+  if (kick_first) {
+    if (keep_d2)
+      kick_sweep(std::true_type{});
+    else
+      kick_sweep(std::false_type{});
   } else {
     for (int i = 0; i < n; ++i)
       am[i] = 0.5 * dt / m_ps.get_mass(i);
