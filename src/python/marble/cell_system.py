@@ -132,8 +132,8 @@ class CellSystem:
         ``"pairs"`` then first checks whether a pair can be missing from the
         list. Such a pair moved apart by more than the skin, so only particles
         that moved more than half the skin need comparing with those that
-        moved more than ``skin - d_max``. The lists live ~1.5x longer, and the
-        test is cheaper than the rebuilds it saves (about 5 % on a DPD fluid;
+        moved more than ``skin - d_max``. The lists live ~1.25x longer, and the
+        test is cheaper than the rebuilds it saves (3.5-5 % on a DPD fluid;
         doc/benchmarks.md, "The Verlet list's life"). Where that test does
         not apply, ``"pairs"`` acts as ``"half_skin"``:
 
