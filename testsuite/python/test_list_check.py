@@ -13,6 +13,7 @@ import pytest
 import marble
 
 needs_hat = pytest.mark.skipif(not marble.has_features("HAT"), reason="needs HAT")
+needs_hat_dpd = pytest.mark.skipif(not marble.has_features("HAT", "DPD"), reason="needs HAT, DPD")
 
 
 def fluid(check, L=7.0, seed=3):
@@ -58,7 +59,7 @@ def test_kept_lists_give_the_forces_of_fresh_lists():
     assert abs(e_pairs - e_half) < 1e-6 * abs(e_half), (e_pairs, e_half)
 
 
-@needs_hat
+@needs_hat_dpd
 def test_where_the_pair_test_does_not_apply():
     # a box under 3 pair ranges: the half-skin rule
     s = fluid("pairs", L=4.0)
