@@ -18,13 +18,12 @@
 #include <utility>
 #include <vector>
 
+namespace {
+
 using Marble::BoxGeometry;
 using Marble::CellSystem;
-using Marble::ParticleProperties;
 using Marble::ParticleStore;
 using Utils::Vector3d;
-
-namespace {
 
 constexpr double cut = 1.0, skin = 0.4;
 
@@ -41,7 +40,7 @@ void build(Scene &s, Vector3d const &L, bool periodic_z, int n, unsigned seed) {
   s.box.set_length(L);
   s.box.set_periodic(2, periodic_z);
   for (int k = 0; k < n; ++k) {
-    ParticleProperties p;
+    Marble::ParticleProperties p;
     p.id = k;
     p.pos = {u(rng) * L[0], u(rng) * L[1], u(rng) * L[2]};
     s.ps.add(p);
