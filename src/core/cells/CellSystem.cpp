@@ -1418,10 +1418,10 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
     }
   }
   if (parallel()) {
-    // neighbours: within the ghost range (every ghost goes to one) and 1.5
-    // skins (every particle moved by a run between two rebuilds stays among them)
-    // (2 skins: the pair test lets a local move up to a skin before the last
-    // step of a list, which adds at most another: integrate.cpp refuses more)
+    // neighbours: within the ghost range (every ghost goes to one) and 2
+    // skins (every particle moved by a run between two rebuilds stays among
+    // them: the pair test keeps a list while no local has moved a skin, and
+    // the step after adds at most another, integrate.cpp refuses more)
     update_neighbour_ranks(box, std::max({m_range, m_range_ll, m_range_ls, 2. * m_skin}));
     migrate(ps, box);
   }
@@ -1433,7 +1433,7 @@ void CellSystem::rebuild(ParticleStore &ps, BoxGeometry const &box, double max_c
   m_box_l = box.length();
   for (int d = 0; d < 3; ++d)
     m_box_periodic[d] = box.periodic(d);
-  m_n_global_at_build = m_comm ? m_comm->sum(static_cast<long long>(ps.n_local())) : ps.n_local();
+  m_n_global_at_build = -1; // (counted by the first pair test of this list)
   m_valid = true;
   ++m_n_rebuilds;
 }
@@ -1677,13 +1677,12 @@ bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp
   int const n = ps.n_local();
   auto const *const x = ps.pos.data();
   auto const *const x0 = ps.pos_at_rebuild.data();
-  m_fast_d2.resize(static_cast<std::size_t>(n));
-  float *const dd2 = m_fast_d2.data();
   float const *src = disp2;
   if (!src) {
+    m_fast_d2.resize(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
-      dd2[i] = static_cast<float>((x[i] - x0[i]).norm2());
-    src = dd2;
+      m_fast_d2[static_cast<std::size_t>(i)] = static_cast<float>((x[i] - x0[i]).norm2());
+    src = m_fast_d2.data();
   }
   float fmax2 = 0.f;
   bool nan = false;
@@ -1729,6 +1728,8 @@ bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp
     gathered = m_comm->allgatherv(m_hot);
   std::vector<double> const &hot = par ? gathered : m_hot;
   long long const n_hot = static_cast<long long>(hot.size() / R);
+  if (m_n_global_at_build < 0) // (every rank is here: the decisions above are the same on all)
+    m_n_global_at_build = par ? m_comm->sum(static_cast<long long>(n)) : n;
   // more than 1/128 of the particles hot: the test would cost more than it
   // saves (doc/benchmarks.md: the list life against the rate, session 29)
   if (128 * n_hot > m_n_global_at_build)

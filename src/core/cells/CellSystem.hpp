@@ -185,9 +185,11 @@ public:
    * (cut + skin) is now closer than max_cut, or the fastest local has moved
    * a whole skin. Such a pair moved apart by more than the skin, so both its
    * particles moved more than skin - d_max: only those are compared (all
-   * ranks' ones, minimum images). Also true if they are more than an eighth
-   * of all particles (then a rebuild is cheaper than the test). Collective;
-   * needs pair_test_applies(). */
+   * ranks' ones, minimum images). Also true if more than 1/128 of all
+   * particles moved more than skin/2 (then a rebuild is cheaper than the
+   * test). @p disp2: each local's squared displacement since the build, if
+   * the caller has it (else computed here). Collective; needs
+   * pair_test_applies(). */
   bool pairs_may_be_missing(ParticleStore const &ps, float const *disp2 = nullptr) const;
 
   // --- Lees-Edwards (box/LeesEdwards.hpp; no marble colloids; several ranks: node_grid splits the vorticity axis only) ---
@@ -402,10 +404,11 @@ private:
 
   double m_skin = 0.4;
   double m_range = 0.;
-  // the box of the last build and the particle count over all ranks (pairs_may_be_missing)
+  // the box of the last build and the particle count over all ranks (pairs_may_be_missing;
+  // the count -1 until its first call after the build)
   Utils::Vector3d m_box_l{1., 1., 1.};
   std::array<bool, 3> m_box_periodic{true, true, true};
-  long long m_n_global_at_build = 0;
+  mutable long long m_n_global_at_build = -1;
   mutable std::vector<double> m_fast, m_hot, m_fast_sorted, m_fast_dsorted; // pairs_may_be_missing: scratch
   mutable std::vector<float> m_fast_d2;
   mutable std::vector<int> m_fast_cell, m_fast_start, m_fast_order;
