@@ -315,10 +315,8 @@ def _as_version_3(blob):
     """The format-3 blob of the same state: format 4 appended the requested
     large-range types (i32 mode, u64 count, count bytes) to the global block."""
     import struct
+    blob, _ = _as_version_6(blob)  # (without the fields of formats 7 and 8)
     before, g, rest = _global_block(blob)
-    # format 8 appended the Verlet list check (i32), format 7 the automatic load balance (i32
-    # every, i32 by, f64 damping, f64 threshold, i64 count of balances)
-    g = g[:len(g) - 4 - 32]
     # format 6 appended the domain planes (three u64 counts and doubles; equal domains here: empty)
     assert g[len(g) - 24:] == bytes(24)
     g = g[:len(g) - 24]
