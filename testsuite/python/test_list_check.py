@@ -3,7 +3,8 @@
 "pairs" a Verlet list outlives the half-skin mark until a pair may be missing
 from it. The forces it gives are those of a list built afresh at the current
 positions, at every step of a run in which it was kept longer than the
-half-skin rule would keep it; where the test does not apply it falls back to
+half-skin rule would keep it (under velocity Verlet and under Shardlow, whose
+sweep reads the same list); where the test does not apply it falls back to
 the half-skin rule; bad values are refused."""
 import pickle
 
@@ -16,43 +17,60 @@ needs_hat = pytest.mark.skipif(not marble.has_features("HAT"), reason="needs HAT
 needs_hat_dpd = pytest.mark.skipif(not marble.has_features("HAT", "DPD"), reason="needs HAT, DPD")
 
 
-def fluid(check, L=7.0, seed=3):
-    """A soft-sphere (hat, a = 25) fluid at rho = 3, NVE, kT about 1; the box
-    is more than 3 pair ranges wide (the pair test applies)."""
+def fluid(check, L=7.0, seed=3, shardlow=False):
+    """A soft-sphere (hat, a = 25) fluid at rho = 3, kT about 1; the box is
+    more than 3 pair ranges wide (the pair test applies). NVE, or with
+    @p shardlow Groot-Warren water (DPD gamma = 4.5, kT = 1) under Shardlow at
+    dt = 0.04 and skin 0.3, where the half-skin rule rebuilds at every step."""
     rng = np.random.default_rng(seed)
     s = marble.System(box_l=[L] * 3)
-    s.time_step = 0.01
-    s.cell_system.skin = 0.4
+    s.time_step = 0.04 if shardlow else 0.01
+    s.cell_system.skin = 0.3 if shardlow else 0.4
     s.cell_system.list_check = check
     n = int(round(3 * L**3))
     s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
     s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
+    if shardlow:
+        s.thermostat.set_dpd(kT=1.0, seed=seed)
+        s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
+        s.integrator.set_shardlow()
     s.integrator.run(30)
     return s
+
+
+def kept_and_fresh_forces(s, steps):
+    """Run @p s step by step; after each step its forces must be those of a
+    list built afresh at the current positions. Returns the rebuilds."""
+    skin = s.cell_system.skin
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    fmax = 0.0
+    for _ in range(steps):
+        s.integrator.run(1)
+        f = np.array(s.part.all().f)
+        fresh = pickle.loads(pickle.dumps(s))  # the same list (rebuilt at the build's positions)
+        fresh.cell_system.skin = skin  # a new list at the current positions
+        fresh.integrator.run(0)
+        np.testing.assert_allclose(np.array(fresh.part.all().f), f, rtol=0, atol=1e-11)
+        fmax = max(fmax, float(np.abs(f).max()))
+    assert fmax > 1.0  # (the forces are not trivially zero)
+    return s.cell_system.get_state()["verlet_rebuilds"] - r0
+
+
+def rebuilds_of(s, steps):
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    s.integrator.run(steps)
+    return s.cell_system.get_state()["verlet_rebuilds"] - r0
 
 
 @needs_hat
 def test_kept_lists_give_the_forces_of_fresh_lists():
     s = fluid("pairs")
     assert s.cell_system.get_state()["pair_test_applies"]
-    r0 = s.cell_system.get_state()["verlet_rebuilds"]
-    fmax = 0.0
-    for _ in range(40):
-        s.integrator.run(1)
-        f = np.array(s.part.all().f)
-        fresh = pickle.loads(pickle.dumps(s))  # the same list (rebuilt at the build's positions)
-        fresh.cell_system.skin = 0.4  # a new list at the current positions
-        fresh.integrator.run(0)
-        np.testing.assert_allclose(np.array(fresh.part.all().f), f, rtol=0, atol=1e-11)
-        fmax = max(fmax, float(np.abs(f).max()))
-    assert fmax > 1.0  # (the forces are not trivially zero)
-    kept = s.cell_system.get_state()["verlet_rebuilds"] - r0
+    kept = kept_and_fresh_forces(s, 40)
     # the same 40 steps under the half-skin rule rebuild more often: the
     # lists above were kept past half the skin
     h = fluid("half_skin")
-    r0 = h.cell_system.get_state()["verlet_rebuilds"]
-    h.integrator.run(40)
-    half = h.cell_system.get_state()["verlet_rebuilds"] - r0
+    half = rebuilds_of(h, 40)
     assert kept < 0.85 * half, (kept, half)
     # NVE from the same start: both runs keep its total energy
     e_pairs, e_half = s.analysis.energy()["total"], h.analysis.energy()["total"]
@@ -60,15 +78,84 @@ def test_kept_lists_give_the_forces_of_fresh_lists():
 
 
 @needs_hat_dpd
+def test_shardlow_keeps_lists_that_have_every_pair():
+    """Shardlow (substeps 1, no colloids): its sweep reads the Verlet list the
+    forces read, so a kept list must hold every pair in range at every step.
+    At dt = 0.04 and skin 0.3 the half-skin rule rebuilds at (almost) every
+    step; the pair test keeps about every list for a second step."""
+    s = fluid("pairs", shardlow=True)
+    assert s.cell_system.get_state()["pair_test_applies"]
+    kept = kept_and_fresh_forces(s, 30)
+    h = fluid("half_skin", shardlow=True)
+    half = rebuilds_of(h, 30)
+    assert kept < 0.75 * half, (kept, half)
+
+    # the sweep on kept lists thermalises as on fresh ones: the kinetic kT
+    # (1029 beads, 600 steps) of the two runs agrees within their errors
+    # (both carry the same dt error of the conservative force's VV part)
+    def kinetic_kt(sys_):
+        sys_.integrator.run(50)
+        kts = []
+        for _ in range(60):
+            sys_.integrator.run(10)
+            v = np.array(sys_.part.all().v)
+            kts.append(float(np.mean(np.sum(v * v, axis=1))) / 3.0)
+        b = np.array(kts).reshape(6, 10).mean(axis=1)
+        return float(b.mean()), float(b.std(ddof=1) / np.sqrt(len(b)))
+
+    (m1, e1), (m2, e2) = kinetic_kt(s), kinetic_kt(h)
+    assert max(e1, e2) < 0.01, (e1, e2)  # (so the test can fail)
+    assert abs(m1 - m2) < 4 * np.hypot(e1, e2), (m1, e1, m2, e2)
+    assert abs(m1 - 1.0) < 0.05, m1  # (the VV part's dt error at a = 25, dt = 0.04: ~2 %)
+
+
+@pytest.mark.parametrize("shardlow", [False, True])
+def test_a_pair_closing_in_one_step_is_found(shardlow):
+    """Two particles a little more than the pair range apart at the list's
+    build, flying at each other so that each moves between half a skin and a
+    skin in one step: the pair is then within the cutoff but not in the list.
+    Nothing else moves half a skin (the fluid starts at rest), so only the
+    pair test's hot-warm search can find it: the list must be rebuilt and the
+    forces must be those of a fresh list."""
+    if not marble.has_features("HAT", *(("DPD",) if shardlow else ())):
+        pytest.skip("needs HAT (and DPD)")
+    s = fluid("pairs", shardlow=shardlow)
+    skin, dt = s.cell_system.skin, s.time_step
+    parts = s.part.all()
+    parts.v = np.zeros((len(parts), 3))
+    if shardlow:
+        s.thermostat.set_dpd(kT=0.0, seed=1)  # (no noise: nothing else gets hot)
+    gap = 1.0 + 1.15 * skin  # apart by more than the range 1 + skin
+    speed = 0.6 * skin / dt  # each moves 0.6 skins: both hot, the pair closes by 1.2 skins
+    x0 = np.array([1.5, 2.5, 3.5])
+    a, b = s.part.by_id(0), s.part.by_id(1)
+    a.pos, a.v = x0, [speed, 0.0, 0.0]
+    b.pos, b.v = x0 + [gap, 0.0, 0.0], [-speed, 0.0, 0.0]
+    s.cell_system.skin = skin  # a list built at these positions
+    s.integrator.run(0)
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    s.integrator.run(1)
+    d = np.linalg.norm(np.array(s.part.by_id(0).pos) - np.array(s.part.by_id(1).pos))
+    assert d < 1.0, d  # (the pair is in range now)
+    assert s.cell_system.get_state()["verlet_rebuilds"] == r0 + 1  # found: rebuilt
+    f = np.array(s.part.all().f)
+    fresh = pickle.loads(pickle.dumps(s))
+    fresh.cell_system.skin = skin
+    fresh.integrator.run(0)
+    np.testing.assert_allclose(np.array(fresh.part.all().f), f, rtol=0, atol=1e-11)
+
+
+@needs_hat_dpd
 def test_where_the_pair_test_does_not_apply():
     # a box under 3 pair ranges: the half-skin rule
     s = fluid("pairs", L=4.0)
     assert not s.cell_system.get_state()["pair_test_applies"]
-    # Shardlow and Brownian dynamics keep the half-skin rule too
-    s = fluid("pairs")
-    s.thermostat.set_dpd(kT=1.0, seed=1)
-    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
-    s.integrator.set_shardlow()
+    # Shardlow with RESPA substeps and Brownian dynamics keep the half-skin rule
+    s = fluid("pairs", shardlow=True)
+    assert s.cell_system.get_state()["pair_test_applies"]
+    s.integrator.set_shardlow(substeps=2)
+    assert not s.cell_system.get_state()["pair_test_applies"]
+    s.integrator.set_brownian_dynamics()
     assert not s.cell_system.get_state()["pair_test_applies"]
     s.integrator.set_vv()
     assert s.cell_system.get_state()["pair_test_applies"]
@@ -87,12 +174,16 @@ def test_bad_values_are_refused():
     assert s.cell_system.get_state()["list_check"] == "half_skin"
 
 
-@needs_hat
-def test_restart_continues_bit_for_bit():
+@pytest.mark.parametrize("shardlow", [False, True])
+def test_restart_continues_bit_for_bit(shardlow):
     """A checkpoint (pickle) taken at any step of a list's life, past the
     half-skin mark included, continues bit for bit: the test's decisions
-    depend only on the saved positions and those at the list's build."""
-    s = fluid("pairs")
+    depend only on the saved positions and those at the list's build (and
+    Shardlow's sweep, whose order is the list's, reads the list rebuilt at
+    the build's positions)."""
+    if not marble.has_features("HAT", *(("DPD",) if shardlow else ())):
+        pytest.skip("needs HAT (and DPD)")
+    s = fluid("pairs", shardlow=shardlow)
     copies = []
     for _ in range(8):  # more than one list's life
         copies.append(pickle.dumps(s))

@@ -223,6 +223,58 @@ def test_list_check_pairs_1_vs_2_vs_3_ranks():
     assert_same_trajectory(runs[2], half, tol=1e-6)  # (another list order: round-off, grown over 150 steps)
 
 
+def _hat_forces(pos, L, f_max=25.0, cut=1.0):
+    """The hat forces of all particles by brute force (minimum images)."""
+    f = np.zeros_like(pos)
+    for i in range(len(pos)):
+        d = pos[i] - pos
+        d -= L * np.round(d / L)
+        r = np.linalg.norm(d, axis=1)
+        m = (r < cut) & (r > 0)
+        f[i] = (f_max * (1.0 - r[m] / cut) / r[m])[:, None].T @ d[m]
+    return f
+
+
+@needs("DPD", "HAT")
+def test_list_check_pairs_under_shardlow_2_and_3_ranks():
+    """cell_system.list_check = "pairs" under Shardlow on several ranks (the
+    sweep's order, and so the trajectory, follows the decomposition): at every
+    step the forces are those of every pair in range (brute force over the
+    minimum images: no pair is missing from a kept list, across the domain
+    faces included), the momentum is conserved, and the lists are rebuilt
+    less often than under the half-skin rule."""
+    for n in (2, 3):
+        r = run("shardlow_pairs", n)
+        assert bool(r["pair_test"])
+        L = float(r["L"])
+        for k in range(0, len(r["pos"]), 3):
+            np.testing.assert_allclose(r["f"][k], _hat_forces(r["pos"][k], L), rtol=0, atol=1e-9,
+                                       err_msg=f"{n} ranks, step {k + 1}")
+        assert np.abs(r["f"]).max() > 1.0
+        np.testing.assert_allclose(r["p1"], r["p0"], rtol=0, atol=1e-9, err_msg=f"{n} ranks: momentum")
+        half = run("shardlow_half_skin", n)
+        assert int(r["rebuilds"]) < 0.9 * int(half["rebuilds"]), (n, r["rebuilds"], half["rebuilds"])
+
+
+@needs("DPD", "HAT")
+@pytest.mark.parametrize("integrator", ["vv", "shardlow"])
+def test_list_check_finds_pairs_closing_across_the_faces(integrator):
+    """Three pairs that come into range in one step without having been in
+    the list, across the domain faces of 2 and 3 ranks and the periodic face,
+    in a fluid at rest: only the pair test's search of the hot particles of
+    every rank against the warm ones can find them. One rebuild, and the
+    forces of every pair in range (brute force)."""
+    for n in (1, 2, 3):
+        r = run("pairs_closing_" + integrator, n)
+        L, pos = float(r["L"]), r["pos"]
+        for k in range(3):
+            d = pos[2 * k] - pos[2 * k + 1]
+            d -= L * np.round(d / L)
+            assert np.linalg.norm(d) < 1.0, (n, k, d)  # (in range after the step)
+        assert int(r["rebuilds"]) == 1, (n, r["rebuilds"])
+        np.testing.assert_allclose(r["f"], _hat_forces(pos, L), rtol=0, atol=1e-9, err_msg=f"{n} ranks")
+
+
 @needs("MARBLE", "DPD")
 def test_dpd_vv_1_vs_2_ranks():
     one, two = run("dpd_vv", 1), run("dpd_vv", 2)

@@ -223,7 +223,8 @@ void System::ensure_lists() {
 
 bool System::pair_test_applies() const {
   if (m_list_check != ListCheck::Pairs || m_substeps != 1 ||
-      (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::DPDVV) ||
+      (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::DPDVV &&
+       m_integrator != IntegratorKind::Shardlow) ||
       m_box.lees_edwards().active())
     return false;
 #ifdef MARBLE

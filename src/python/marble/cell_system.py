@@ -137,7 +137,8 @@ class CellSystem:
         doc/benchmarks.md, "The Verlet list's life"). Where that test does
         not apply, ``"pairs"`` acts as ``"half_skin"``:
 
-        - other integrators than velocity Verlet and DPD-VV, or RESPA substeps;
+        - other integrators than velocity Verlet, DPD-VV and Shardlow, or RESPA
+          substeps;
         - Lees-Edwards boundaries, marble colloids, an SRD solvent, large-range
           types (``large_range_types``);
         - a periodic box shorter than 3 pair ranges (cutoff + skin).
