@@ -6,6 +6,10 @@ machine's drifting speed hits every configuration alike (doc/benchmarks.md,
     build/pymarble bench/list_check_ab.py --integrator shardlow --dt 0.06 \
         --configs 0.6:half_skin,0.5:pairs,0.45:pairs
 
+--scene fig4: the Fig. 4 scene of compare_builds.py (a marble R = 3 in the
+paper solvent, L = 20, Shardlow at its default dt = 0.06 with 3 RESPA
+substeps; --dt, --a, --gamma and --integrator are then ignored).
+
 Prints, per configuration, the median rate (particle-steps per CPU-second),
 the median of its per-round ratios against the first configuration, and the
 list's mean life in steps; --out writes them as JSON with the machine record."""
@@ -42,6 +46,7 @@ def make(L, a, gamma, dt, integrator, seed=7):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scene", choices=("fluid", "fig4"), default="fluid")
     ap.add_argument("--integrator", choices=("vv", "shardlow"), default="shardlow")
     ap.add_argument("--dt", type=float, default=0.04)
     ap.add_argument("--a", type=float, default=0.0, help="hat F_max (0: the paper solvent)")
@@ -54,7 +59,11 @@ def main(argv=None):
     args = ap.parse_args(argv)
     gamma = args.gamma if args.gamma is not None else (4.5 if args.a > 0 else 5.0)
     cfgs = [(float(c.split(":")[0]), c.split(":")[1]) for c in args.configs.split(",")]
-    s = make(args.L, args.a, gamma, args.dt, args.integrator)
+    if args.scene == "fig4":
+        from marble.colloid_runs import make_system
+        s, _, _ = make_system(args.L, 3.0, 1.0, 7, integrator="shardlow", warmup=3.0)
+    else:
+        s = make(args.L, args.a, gamma, args.dt, args.integrator)
     n = len(s.part)
 
     def timed(cfg):

@@ -109,6 +109,84 @@ def test_shardlow_keeps_lists_that_have_every_pair():
     assert abs(m1 - 1.0) < 0.05, m1  # (the VV part's dt error at a = 25, dt = 0.04: ~2 %)
 
 
+@pytest.mark.parametrize("integrator,substeps,dt,skin", [("vv", 1, 0.01, 0.3), ("shardlow", 1, 0.04, 0.3),
+                                                         ("shardlow", 3, 0.06, 0.45)])
+def test_marble_scenes_keep_lists_that_have_every_pair(integrator, substeps, dt, skin):
+    """A marble in the paper solvent (marble.colloid_runs.make_system; with 3
+    RESPA substeps: Fig. 4's integrator at its dt), at skins where the
+    half-skin rule rebuilds every 1-3 steps: the Verlet list and the
+    colloid pair list built with it are kept past the half-skin mark while
+    the pair test and the colloid list's criterion (d_max + d_colloid < skin)
+    allow. After every step the forces and torques (the DPD pairs', the
+    marble coupling's and its wall's) on the kept lists (a copy of the system
+    whose lists are rebuilt at their build's positions, as a restart does)
+    equal those on lists built afresh, and the lists are rebuilt less often
+    than under the half-skin rule."""
+    if not marble.has_features("MARBLE", "DPD"):
+        pytest.skip("needs MARBLE, DPD")
+    from marble.colloid_runs import make_system
+
+    def scene(check):
+        s, _, _ = make_system(7.0, 1.5, 2.0, 5, integrator=integrator, dt=dt, substeps=substeps, warmup=0.0,
+                              skin=skin)
+        s.cell_system.list_check = check
+        s.integrator.run(20)
+        return s
+
+    s = scene("pairs")
+    assert s.cell_system.get_state()["pair_test_applies"]
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    for _ in range(40):
+        s.integrator.run(1)
+        # the forces at the current velocities (the step's own were computed
+        # at the half-step ones), on the kept lists and on fresh ones
+        kept, fresh = pickle.loads(pickle.dumps(s)), pickle.loads(pickle.dumps(s))
+        fresh.cell_system.skin = skin  # new lists at the current positions
+        for c in (kept, fresh):
+            c.integrator.run(0)
+        for key in ("f", "torque_lab"):
+            np.testing.assert_allclose(np.array(getattr(fresh.part.all(), key)),
+                                       np.array(getattr(kept.part.all(), key)), rtol=0, atol=1e-9, err_msg=key)
+    kept = s.cell_system.get_state()["verlet_rebuilds"] - r0
+    half = rebuilds_of(scene("half_skin"), 40)
+    assert kept < 0.9 * half, (kept, half)
+
+
+def test_a_bead_closing_on_a_marble_is_found():
+    """The colloid pair list's criterion: a marble (R = 1.5, coupling range
+    R + r_cut = 2.5) moving 0.45 skins in one step and a bead 1.1 skins
+    beyond that range flying at it by 0.75 skins: the pair comes into range
+    without having been listed. The Verlet list's own hot-warm search cannot
+    see it (the pair is farther apart than that list's cutoff), so only
+    d_max + d_colloid >= skin can: one rebuild, and the forces of fresh
+    lists."""
+    if not marble.has_features("MARBLE", "DPD"):
+        pytest.skip("needs MARBLE, DPD")
+    from marble.colloid_runs import make_system
+    skin, dt = 0.3, 0.01
+    s, colloid, solvent = make_system(7.0, 1.5, 2.0, 5, integrator="vv", dt=dt, warmup=0.0, skin=skin)
+    s.integrator.run(20)
+    parts = s.part.all()
+    parts.v = np.zeros((len(parts), 3))
+    c = s.part.by_id(int(colloid.id))
+    bead = s.part.by_id(int(np.asarray(solvent.id)[0]))  # moved to range + 1.1 skins on the +x side
+    bead.pos = np.array(c.pos) + [2.5 + 1.1 * skin, 0.0, 0.0]
+    c.v = [0.45 * skin / dt, 0.0, 0.0]
+    bead.v = [-0.75 * skin / dt, 0.0, 0.0]
+    s.cell_system.skin = skin  # lists built at these positions
+    s.integrator.run(0)
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    s.integrator.run(1)
+    d = np.linalg.norm(np.array(bead.pos) - np.array(c.pos))
+    assert 2.4 < d < 2.5, d  # (in the coupling's range now)
+    assert s.cell_system.get_state()["verlet_rebuilds"] == r0 + 1
+    kept, fresh = pickle.loads(pickle.dumps(s)), pickle.loads(pickle.dumps(s))
+    fresh.cell_system.skin = skin
+    for x in (kept, fresh):
+        x.integrator.run(0)
+    np.testing.assert_allclose(np.array(fresh.part.all().f), np.array(kept.part.all().f), rtol=0, atol=1e-9)
+
+
 @pytest.mark.parametrize("shardlow", [False, True])
 def test_a_pair_closing_in_one_step_is_found(shardlow):
     """Two particles a little more than the pair range apart at the list's
@@ -150,11 +228,11 @@ def test_where_the_pair_test_does_not_apply():
     # a box under 3 pair ranges: the half-skin rule
     s = fluid("pairs", L=4.0)
     assert not s.cell_system.get_state()["pair_test_applies"]
-    # Shardlow with RESPA substeps and Brownian dynamics keep the half-skin rule
+    # Brownian dynamics keeps the half-skin rule
     s = fluid("pairs", shardlow=True)
     assert s.cell_system.get_state()["pair_test_applies"]
     s.integrator.set_shardlow(substeps=2)
-    assert not s.cell_system.get_state()["pair_test_applies"]
+    assert s.cell_system.get_state()["pair_test_applies"]
     s.integrator.set_brownian_dynamics()
     assert not s.cell_system.get_state()["pair_test_applies"]
     s.integrator.set_vv()

@@ -1673,7 +1673,7 @@ bool CellSystem::pair_test_applies() const {
   return true;
 }
 
-bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp2) const {
+bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp2, double reach) const {
   int const n = ps.n_local();
   auto const *const x = ps.pos.data();
   auto const *const x0 = ps.pos_at_rebuild.data();
@@ -1695,7 +1695,11 @@ bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp
   // (float: relative error < 1e-7; every threshold below allows 1e-6)
   double const dmax2 = static_cast<double>(fmax2) * (1. + 1e-6);
   bool const par = m_comm && m_comm->parallel();
-  double const dmax = par ? m_comm->max(std::sqrt(dmax2)) : std::sqrt(dmax2);
+  // d_max and the other list's reach over all ranks (one reduction)
+  double dr[2] = {std::sqrt(dmax2), reach};
+  if (par)
+    m_comm->max_inplace(dr, 2);
+  double const dmax = dr[0];
   // A missing pair (i, j) was at least the range apart at the build and is
   // now within max_cut: |dx_i - dx_j| > skin, so d_i + d_j > skin. Say
   // d_i >= d_j: then d_i > skin/2 (i is "hot") and d_j > skin - d_i >=
@@ -1705,6 +1709,11 @@ bool CellSystem::pairs_may_be_missing(ParticleStore const &ps, float const *disp
   double const thr = m_skin - dmax - eps;
   if (!(thr > 0.))
     return true; // some local moved (almost) a skin: rebuild
+  // the colloid pair list (marble/Colloids, built with this list) holds the
+  // pairs within range + skin of the colloids at the build: it stays valid
+  // while no bead and colloid came closer by a skin, d_max + d_colloid < skin
+  if (dr[1] >= 0. && !(dmax + dr[1] < m_skin - eps))
+    return true;
   if (!(dmax > 0.5 * m_skin))
     return false;
   double const thr2 = thr * thr, hot2 = (0.5 * m_skin - eps) * (0.5 * m_skin - eps);

@@ -188,9 +188,12 @@ public:
    * ranks' ones, minimum images). Also true if more than 1/128 of all
    * particles moved more than skin/2 (then a rebuild is cheaper than the
    * test). @p disp2: each local's squared displacement since the build, if
-   * the caller has it (else computed here). Collective; needs
-   * pair_test_applies(). */
-  bool pairs_may_be_missing(ParticleStore const &ps, float const *disp2 = nullptr) const;
+   * the caller has it (else computed here). @p reach: a displacement that
+   * another list built at the same time tolerates only while d_max + (the
+   * largest @p reach over the ranks) stays below the skin (the colloid pair
+   * list: the largest colloid displacement since the build; < 0: none);
+   * true once it does not. Collective; needs pair_test_applies(). */
+  bool pairs_may_be_missing(ParticleStore const &ps, float const *disp2 = nullptr, double reach = -1.) const;
 
   // --- Lees-Edwards (box/LeesEdwards.hpp; no marble colloids; several ranks: node_grid splits the vorticity axis only) ---
   /** The current Lees-Edwards state (offset, shear velocity) for the ghost

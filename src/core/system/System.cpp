@@ -205,8 +205,9 @@ void System::ensure_lists() {
   bool stale = !m_cells.valid() || cut != m_cut_at_rebuild;
   if (!stale && (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps)))
     // past half a skin: the pair test may keep the list (doc/benchmarks.md)
-    stale = !pair_test_applies() ||
-            m_cells.pairs_may_be_missing(m_ps, hint >= 0 && m_disp2_fresh ? m_disp2.data() : nullptr);
+    stale = !pair_test_applies() || m_cells.pairs_may_be_missing(m_ps, hint >= 0 && m_disp2_fresh ? m_disp2.data()
+                                                                                                   : nullptr,
+                                                                  colloid_reach());
   m_disp2_fresh = false;
   if (stale) {
     // the inner list pays where lists live ~2 steps (Shardlow at its large dt; doc/benchmarks.md, session 15)
@@ -221,16 +222,28 @@ void System::ensure_lists() {
   }
 }
 
+double System::colloid_reach() const {
+#ifdef MARBLE
+  if (!m_colloids.any())
+    return -1.;
+  // the colloid pair list's own test (SubstepTally::colloid_list_stale): the
+  // largest displacement of a local colloid since the build, exact
+  double d2 = 0.;
+  for (int i = 0; i < m_ps.n_local(); ++i)
+    if (m_colloids.is_colloid_type(m_ps.type[i]))
+      d2 = std::max(d2, (m_ps.pos[i] - m_ps.pos_at_rebuild[i]).norm2());
+  return std::sqrt(d2);
+#else
+  return -1.;
+#endif
+}
+
 bool System::pair_test_applies() const {
-  if (m_list_check != ListCheck::Pairs || m_substeps != 1 ||
+  if (m_list_check != ListCheck::Pairs ||
       (m_integrator != IntegratorKind::VelocityVerlet && m_integrator != IntegratorKind::DPDVV &&
        m_integrator != IntegratorKind::Shardlow) ||
       m_box.lees_edwards().active())
     return false;
-#ifdef MARBLE
-  if (m_colloids.any())
-    return false;
-#endif
 #ifdef SRD
   if (srd)
     return false;

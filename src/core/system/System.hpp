@@ -136,10 +136,16 @@ public:
   enum class ListCheck { Pairs, HalfSkin };
   ListCheck list_check() const { return m_list_check; }
   void set_list_check(ListCheck c) { m_list_check = c; }
-  /** Whether ensure_lists() uses the pair test now (ListCheck::Pairs, VV or
-   * DPD-VV without substeps, no Lees-Edwards, marble colloids, SRD or
-   * large-range types, and a box of at least 3 pair ranges). */
+  /** Whether ensure_lists() uses the pair test now (ListCheck::Pairs, VV,
+   * DPD-VV or Shardlow, RESPA substeps and colloids included; no
+   * Lees-Edwards, SRD or large-range types, and a box of at least 3 pair
+   * ranges). With colloids the colloid pair list's own criterion is part of
+   * the test (colloid_reach). */
   bool pair_test_applies() const;
+  /** The largest displacement of a local colloid since the last build (< 0:
+   * no colloid types): the colloid pair list, built with the Verlet list,
+   * stays valid while d_max + this < skin (CellSystem::pairs_may_be_missing). */
+  double colloid_reach() const;
 
   // --- particles ---
   ParticleStore &particles() { return m_ps; }

@@ -137,14 +137,18 @@ class CellSystem:
         doc/benchmarks.md, "The Verlet list's life"). Where that test does
         not apply, ``"pairs"`` acts as ``"half_skin"``:
 
-        - other integrators than velocity Verlet, DPD-VV and Shardlow, or RESPA
-          substeps;
-        - Lees-Edwards boundaries, marble colloids, an SRD solvent, large-range
-          types (``large_range_types``);
+        - other integrators than velocity Verlet, DPD-VV and Shardlow (RESPA
+          substeps included);
+        - Lees-Edwards boundaries, an SRD solvent, large-range types
+          (``large_range_types``);
         - a periodic box shorter than 3 pair ranges (cutoff + skin).
 
-        Both give the same forces; only the list order, and so the
-        trajectories' last bits, differ. Saved in checkpoints."""
+        With colloids (marble, stick) the colloid pair list, built with the
+        Verlet list, is kept only while no bead and colloid can have come
+        closer by a skin (the largest displacement plus the largest colloid
+        displacement below the skin). Both give the same forces; only the
+        list order, and so the trajectories' last bits (Shardlow: its sweep
+        order), differ. Saved in checkpoints."""
         return self._LIST_CHECKS[self._system._core.list_check]
 
     @list_check.setter
