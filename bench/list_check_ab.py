@@ -20,27 +20,18 @@ import statistics
 import sys
 import time
 
-import numpy as np
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import marble  # noqa: E402
 from bench_common import machine_info  # noqa: E402
+from dpd_throughput import make_dpd  # noqa: E402
 
 
 def make(L, a, gamma, dt, integrator, seed=7):
-    rng = np.random.default_rng(seed)
-    n = int(3 * L**3)
-    s = marble.System(box_l=[L] * 3)
-    s.time_step = dt
-    s.cell_system.skin = 0.6
-    s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)))
-    s.thermostat.set_dpd(kT=1.0, seed=seed)
-    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=gamma, k=1.0, r_cut=1.0)
-    if a > 0:
-        s.non_bonded_inter[0, 0].hat.set_params(F_max=a, cutoff=1.0)
+    """dpd_throughput.py's fluid (relaxed under VV), then under @p integrator."""
+    s = make_dpd(L, a, gamma, dt, 0.4, seed=seed)
     if integrator == "shardlow":
         s.integrator.set_shardlow()
-    s.integrator.run(60)
+        s.integrator.run(20)
     return s
 
 
