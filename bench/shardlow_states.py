@@ -27,6 +27,10 @@ def box(L, n, seed, dt=0.04, skin=0.4, mass=None):
     s = marble.System(box_l=[L] * 3)
     s.time_step = dt
     s.cell_system.skin = skin
+    # the half-skin rule: builds since session 29 (VV) and 30 (Shardlow, RESPA,
+    # colloids) keep lists longer by default (cell_system.list_check), which
+    # changes last bits; older builds have no such setting and ignore it
+    s.cell_system.list_check = "half_skin"
     kw = {} if mass is None else {"mass": mass(rng, n)}
     s.part.add(pos=rng.random((n, 3)) * L, v=rng.normal(size=(n, 3)), **kw)
     s.thermostat.set_dpd(kT=1.0, seed=seed)
@@ -91,6 +95,7 @@ def scenes():
         rng = np.random.default_rng(25)
         s = marble.System(box_l=[L] * 3)
         s.time_step = 0.005
+        s.cell_system.list_check = "half_skin"  # (as in box)
         grid = np.stack(np.meshgrid(*[np.arange(3) * 4.0] * 3), -1).reshape(-1, 3)
         s.part.add(pos=grid + 0.2 * rng.random(grid.shape), v=rng.normal(size=grid.shape),
                    mass=rng.choice([1.0, 4.0], size=len(grid)), rotation=[[True] * 3] * len(grid),
