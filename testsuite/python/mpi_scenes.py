@@ -224,51 +224,15 @@ def scene_fluid_half_skin():
     return _fluid_with_list_check("half_skin")
 
 
-def _shardlow_water_with_list_check(check, L=9.0, steps=30):
-    """Groot-Warren water (hat a = 25, DPD gamma = 4.5) under Shardlow at
-    dt = 0.04, skin 0.3 (the half-skin rule rebuilds at almost every step):
-    positions and forces (the hat's only: the DPD pairs act in the sweep)
-    after each of @p steps single steps, and the total momentum."""
-    rng = np.random.default_rng(12)
-    s = marble.System(box_l=[L, L, L])
-    s.time_step = 0.04
-    s.cell_system.skin = 0.3
-    s.cell_system.list_check = check
-    n = int(3 * L**3)
-    s.part.add(pos=rng.uniform(0, L, (n, 3)), v=rng.normal(size=(n, 3)))
-    s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
-    s.non_bonded_inter[0, 0].dpd.set_params(weight_function=1, gamma=4.5, k=1.0, r_cut=1.0)
-    s.thermostat.set_dpd(kT=1.0, seed=7)
-    s.integrator.set_shardlow()
-    s.integrator.run(20)
-    p0 = np.array(s.part.all().v).sum(axis=0)
-    r0 = s.cell_system.get_state()["verlet_rebuilds"]
-    pos, f = [], []
-    for _ in range(steps):
-        s.integrator.run(1)
-        parts = s.part.all()
-        order = np.argsort(parts.id)
-        pos.append(np.array(parts.pos)[order]), f.append(np.array(parts.f)[order])
-    st = s.cell_system.get_state()
-    return s, dict(L=np.array(L), pos=np.array(pos), f=np.array(f), p0=p0,
-                   p1=np.array(s.part.all().v).sum(axis=0),
-                   rebuilds=np.array(st["verlet_rebuilds"] - r0),
-                   pair_test=np.array(st["pair_test_applies"]))
-
-
-def _pairs_closing_across_faces(shardlow, L=9.0):
-    """_shardlow_water_with_list_check's fluid (or the same at VV, dt = 0.01,
-    skin 0.4) brought to rest, with three pairs flying at each other across the
-    planes x = 3, 4.5 and 0 (the domain faces of 2 and 3 ranks, and the
-    periodic face): each particle moves 0.6 skins in the step, so each pair is
-    in range after it without having been in the list, and nothing else moves
-    half a skin. Returns the positions and forces after the step and the
-    rebuilds it made (1: the pair test found a missing pair)."""
+def _water(shardlow, check="pairs", L=9.0):
+    """Groot-Warren water (hat a = 25; under Shardlow with DPD gamma = 4.5 at
+    dt = 0.04, skin 0.3, where the half-skin rule rebuilds at almost every
+    step; else NVE at dt = 0.01, skin 0.4), after 20 steps."""
     rng = np.random.default_rng(12)
     s = marble.System(box_l=[L, L, L])
     s.time_step = 0.04 if shardlow else 0.01
-    skin = 0.3 if shardlow else 0.4
-    s.cell_system.skin = skin
+    s.cell_system.skin = 0.3 if shardlow else 0.4
+    s.cell_system.list_check = check
     n = int(3 * L**3)
     s.part.add(pos=rng.uniform(0, L, (n, 3)), v=rng.normal(size=(n, 3)))
     s.non_bonded_inter[0, 0].hat.set_params(F_max=25.0, cutoff=1.0)
@@ -277,6 +241,42 @@ def _pairs_closing_across_faces(shardlow, L=9.0):
         s.thermostat.set_dpd(kT=1.0, seed=7)
         s.integrator.set_shardlow()
     s.integrator.run(20)
+    return s
+
+
+def _by_id(parts, key):
+    return np.array(getattr(parts, key))[np.argsort(parts.id)]
+
+
+def _shardlow_water_with_list_check(check, steps=30):
+    """_water under Shardlow: positions and forces (the hat's only: the DPD
+    pairs act in the sweep) after each of @p steps single steps, and the
+    total momentum."""
+    s = _water(True, check)
+    L = s.box_l[0]
+    p0 = np.array(s.part.all().v).sum(axis=0)
+    r0 = s.cell_system.get_state()["verlet_rebuilds"]
+    pos, f = [], []
+    for _ in range(steps):
+        s.integrator.run(1)
+        parts = s.part.all()
+        pos.append(_by_id(parts, "pos")), f.append(_by_id(parts, "f"))
+    st = s.cell_system.get_state()
+    return s, dict(L=np.array(L), pos=np.array(pos), f=np.array(f), p0=p0,
+                   p1=np.array(s.part.all().v).sum(axis=0),
+                   rebuilds=np.array(st["verlet_rebuilds"] - r0),
+                   pair_test=np.array(st["pair_test_applies"]))
+
+
+def _pairs_closing_across_faces(shardlow):
+    """_water brought to rest, with three pairs flying at each other across the
+    planes x = 3, 4.5 and 0 (the domain faces of 2 and 3 ranks, and the
+    periodic face): each particle moves 0.6 skins in the step, so each pair is
+    in range after it without having been in the list, and nothing else moves
+    half a skin. Returns the positions and forces after the step and the
+    rebuilds it made (1: the pair test found a missing pair)."""
+    s = _water(shardlow)
+    L, skin = s.box_l[0], s.cell_system.skin
     if shardlow:
         s.thermostat.set_dpd(kT=0.0, seed=7)
     parts = s.part.all()
@@ -291,8 +291,7 @@ def _pairs_closing_across_faces(shardlow, L=9.0):
     r0 = s.cell_system.get_state()["verlet_rebuilds"]
     s.integrator.run(1)
     parts = s.part.all()
-    order = np.argsort(parts.id)
-    return s, dict(L=np.array(L), pos=np.array(parts.pos)[order], f=np.array(parts.f)[order],
+    return s, dict(L=np.array(L), pos=_by_id(parts, "pos"), f=_by_id(parts, "f"),
                    rebuilds=np.array(s.cell_system.get_state()["verlet_rebuilds"] - r0))
 
 

@@ -15,6 +15,10 @@ import marble
 
 needs_hat = pytest.mark.skipif(not marble.has_features("HAT"), reason="needs HAT")
 needs_hat_dpd = pytest.mark.skipif(not marble.has_features("HAT", "DPD"), reason="needs HAT, DPD")
+needs_marble_dpd = pytest.mark.skipif(not marble.has_features("MARBLE", "DPD"), reason="needs MARBLE, DPD")
+# fluid(shardlow=False) needs HAT, fluid(shardlow=True) HAT and DPD
+VV_AND_SHARDLOW = [pytest.param(False, marks=needs_hat, id="vv"),
+                   pytest.param(True, marks=needs_hat_dpd, id="shardlow")]
 
 
 def fluid(check, L=7.0, seed=3, shardlow=False):
@@ -38,19 +42,26 @@ def fluid(check, L=7.0, seed=3, shardlow=False):
     return s
 
 
+def copy_forces(s, fresh, keys=("f",)):
+    """The arrays @p keys after a force pass on a copy of @p s (a checkpoint
+    rebuilds its lists at their build's positions: the same lists), with
+    @p fresh its lists built afresh at the current positions instead."""
+    c = pickle.loads(pickle.dumps(s))
+    if fresh:
+        c.cell_system.skin = s.cell_system.skin
+    c.integrator.run(0)
+    return [np.array(getattr(c.part.all(), k)) for k in keys]
+
+
 def kept_and_fresh_forces(s, steps):
     """Run @p s step by step; after each step its forces must be those of a
     list built afresh at the current positions. Returns the rebuilds."""
-    skin = s.cell_system.skin
     r0 = s.cell_system.get_state()["verlet_rebuilds"]
     fmax = 0.0
     for _ in range(steps):
         s.integrator.run(1)
         f = np.array(s.part.all().f)
-        fresh = pickle.loads(pickle.dumps(s))  # the same list (rebuilt at the build's positions)
-        fresh.cell_system.skin = skin  # a new list at the current positions
-        fresh.integrator.run(0)
-        np.testing.assert_allclose(np.array(fresh.part.all().f), f, rtol=0, atol=1e-11)
+        np.testing.assert_allclose(copy_forces(s, fresh=True)[0], f, rtol=0, atol=1e-11)
         fmax = max(fmax, float(np.abs(f).max()))
     assert fmax > 1.0  # (the forces are not trivially zero)
     return s.cell_system.get_state()["verlet_rebuilds"] - r0
@@ -111,6 +122,7 @@ def test_shardlow_keeps_lists_that_have_every_pair():
 
 @pytest.mark.parametrize("integrator,substeps,dt,skin", [("vv", 1, 0.01, 0.3), ("shardlow", 1, 0.04, 0.3),
                                                          ("shardlow", 3, 0.06, 0.45)])
+@needs_marble_dpd
 def test_marble_scenes_keep_lists_that_have_every_pair(integrator, substeps, dt, skin):
     """A marble in the paper solvent (marble.colloid_runs.make_system; with 3
     RESPA substeps: Fig. 4's integrator at its dt), at skins where the
@@ -122,8 +134,6 @@ def test_marble_scenes_keep_lists_that_have_every_pair(integrator, substeps, dt,
     whose lists are rebuilt at their build's positions, as a restart does)
     equal those on lists built afresh, and the lists are rebuilt less often
     than under the half-skin rule."""
-    if not marble.has_features("MARBLE", "DPD"):
-        pytest.skip("needs MARBLE, DPD")
     from marble.colloid_runs import make_system
 
     def scene(check):
@@ -140,18 +150,15 @@ def test_marble_scenes_keep_lists_that_have_every_pair(integrator, substeps, dt,
         s.integrator.run(1)
         # the forces at the current velocities (the step's own were computed
         # at the half-step ones), on the kept lists and on fresh ones
-        kept, fresh = pickle.loads(pickle.dumps(s)), pickle.loads(pickle.dumps(s))
-        fresh.cell_system.skin = skin  # new lists at the current positions
-        for c in (kept, fresh):
-            c.integrator.run(0)
-        for key in ("f", "torque_lab"):
-            np.testing.assert_allclose(np.array(getattr(fresh.part.all(), key)),
-                                       np.array(getattr(kept.part.all(), key)), rtol=0, atol=1e-9, err_msg=key)
+        keys = ("f", "torque_lab")
+        for key, got, want in zip(keys, copy_forces(s, False, keys), copy_forces(s, True, keys)):
+            np.testing.assert_allclose(want, got, rtol=0, atol=1e-9, err_msg=key)
     kept = s.cell_system.get_state()["verlet_rebuilds"] - r0
     half = rebuilds_of(scene("half_skin"), 40)
     assert kept < 0.9 * half, (kept, half)
 
 
+@needs_marble_dpd
 def test_a_bead_closing_on_a_marble_is_found():
     """The colloid pair list's criterion: a marble (R = 1.5, coupling range
     R + r_cut = 2.5) moving 0.45 skins in one step and a bead 1.1 skins
@@ -160,8 +167,6 @@ def test_a_bead_closing_on_a_marble_is_found():
     see it (the pair is farther apart than that list's cutoff), so only
     d_max + d_colloid >= skin can: one rebuild, and the forces of fresh
     lists."""
-    if not marble.has_features("MARBLE", "DPD"):
-        pytest.skip("needs MARBLE, DPD")
     from marble.colloid_runs import make_system
     skin, dt = 0.3, 0.01
     s, colloid, solvent = make_system(7.0, 1.5, 2.0, 5, integrator="vv", dt=dt, warmup=0.0, skin=skin)
@@ -180,14 +185,10 @@ def test_a_bead_closing_on_a_marble_is_found():
     d = np.linalg.norm(np.array(bead.pos) - np.array(c.pos))
     assert 2.4 < d < 2.5, d  # (in the coupling's range now)
     assert s.cell_system.get_state()["verlet_rebuilds"] == r0 + 1
-    kept, fresh = pickle.loads(pickle.dumps(s)), pickle.loads(pickle.dumps(s))
-    fresh.cell_system.skin = skin
-    for x in (kept, fresh):
-        x.integrator.run(0)
-    np.testing.assert_allclose(np.array(fresh.part.all().f), np.array(kept.part.all().f), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(copy_forces(s, True)[0], copy_forces(s, False)[0], rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("shardlow", [False, True])
+@pytest.mark.parametrize("shardlow", VV_AND_SHARDLOW)
 def test_a_pair_closing_in_one_step_is_found(shardlow):
     """Two particles a little more than the pair range apart at the list's
     build, flying at each other so that each moves between half a skin and a
@@ -195,8 +196,6 @@ def test_a_pair_closing_in_one_step_is_found(shardlow):
     Nothing else moves half a skin (the fluid starts at rest), so only the
     pair test's hot-warm search can find it: the list must be rebuilt and the
     forces must be those of a fresh list."""
-    if not marble.has_features("HAT", *(("DPD",) if shardlow else ())):
-        pytest.skip("needs HAT (and DPD)")
     s = fluid("pairs", shardlow=shardlow)
     skin, dt = s.cell_system.skin, s.time_step
     parts = s.part.all()
@@ -216,11 +215,7 @@ def test_a_pair_closing_in_one_step_is_found(shardlow):
     d = np.linalg.norm(np.array(s.part.by_id(0).pos) - np.array(s.part.by_id(1).pos))
     assert d < 1.0, d  # (the pair is in range now)
     assert s.cell_system.get_state()["verlet_rebuilds"] == r0 + 1  # found: rebuilt
-    f = np.array(s.part.all().f)
-    fresh = pickle.loads(pickle.dumps(s))
-    fresh.cell_system.skin = skin
-    fresh.integrator.run(0)
-    np.testing.assert_allclose(np.array(fresh.part.all().f), f, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(copy_forces(s, fresh=True)[0], np.array(s.part.all().f), rtol=0, atol=1e-11)
 
 
 @needs_hat_dpd
@@ -252,15 +247,13 @@ def test_bad_values_are_refused():
     assert s.cell_system.get_state()["list_check"] == "half_skin"
 
 
-@pytest.mark.parametrize("shardlow", [False, True])
+@pytest.mark.parametrize("shardlow", VV_AND_SHARDLOW)
 def test_restart_continues_bit_for_bit(shardlow):
     """A checkpoint (pickle) taken at any step of a list's life, past the
     half-skin mark included, continues bit for bit: the test's decisions
     depend only on the saved positions and those at the list's build (and
     Shardlow's sweep, whose order is the list's, reads the list rebuilt at
     the build's positions)."""
-    if not marble.has_features("HAT", *(("DPD",) if shardlow else ())):
-        pytest.skip("needs HAT (and DPD)")
     s = fluid("pairs", shardlow=shardlow)
     copies = []
     for _ in range(8):  # more than one list's life

@@ -203,11 +203,11 @@ void System::ensure_lists() {
   int const hint = m_displacement_hint;
   m_displacement_hint = -1;
   bool stale = !m_cells.valid() || cut != m_cut_at_rebuild;
-  if (!stale && (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps)))
+  if (!stale && (hint >= 0 ? hint != 0 : m_cells.displacement_exceeds_half_skin(m_ps))) {
     // past half a skin: the pair test may keep the list (doc/benchmarks.md)
-    stale = !pair_test_applies() || m_cells.pairs_may_be_missing(m_ps, hint >= 0 && m_disp2_fresh ? m_disp2.data()
-                                                                                                   : nullptr,
-                                                                  colloid_reach());
+    float const *const disp2 = hint >= 0 && m_disp2_fresh ? m_disp2.data() : nullptr;
+    stale = !pair_test_applies() || m_cells.pairs_may_be_missing(m_ps, disp2, colloid_reach());
+  }
   m_disp2_fresh = false;
   if (stale) {
     // the inner list pays where lists live ~2 steps (Shardlow at its large dt; doc/benchmarks.md, session 15)
