@@ -177,7 +177,7 @@ TEST(CellsRebuild, InnerListIsTheListWithinTheCutoff) {
       EXPECT_EQ(n_in, n_all_within);
       EXPECT_GT(n_in, 0u);
       EXPECT_LT(n_in, all.n_row_pairs()); // the skin's pairs are left out
-      EXPECT_EQ(in.j.size(), n_in + 4);   // padded like the list
+      EXPECT_EQ(in.j.size(), n_in + 8);   // padded like the list
       cs.update_ghosts(ps);               // the positions may have changed: the whole list again
       EXPECT_FALSE(cs.inner_fresh());
       EXPECT_EQ(&cs.select_pairs(), &cs.pairs());

@@ -1045,8 +1045,9 @@ void CellSystem::build_pairs(ParticleStore const &ps, BoxGeometry const &box) {
   }
   int const n_small_local = n_local - static_cast<int>(m_wide_locals.size());
   // the AVX-512 scan reads up to 7 slots past a range and stores 8 partners
-  // at the list's end; the finished list is padded by 4 zeros (VerletPairs)
-  constexpr int kPad = 8, kListPad = 4;
+  // at the list's end; the finished list is padded by 8 zeros (VerletPairs:
+  // the AVX-512 row select reads 8 partners at a time)
+  constexpr int kPad = 8, kListPad = 8;
   members.resize(static_cast<std::size_t>(n_members + kPad));
   std::fill(members.end() - kPad, members.end(), 0);
   for (int c = 0; c < n_cells; ++c)

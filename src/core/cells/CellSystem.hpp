@@ -60,7 +60,7 @@ namespace Marble {
  * Iterating it yields the pairs as std::array<int, 2>{i, j} in that order. */
 struct VerletPairs {
   std::vector<int> row_start{0}; // row i: j[row_start[i]] .. j[row_start[i + 1] - 1]
-  std::vector<int> j;            // row_start.back() entries, then 4 zeros (SIMD reads past a row)
+  std::vector<int> j;            // row_start.back() entries, then 8 zeros (SIMD reads past a row)
   std::vector<std::array<int, 2>> extra;
 
   int n_rows() const { return static_cast<int>(row_start.size()) - 1; }

@@ -111,7 +111,7 @@ void pair_loop_simd(ParticleStore &ps, PairList const &all_pairs, PairList const
   // the n real pairs are added up, so the forces are those of the n pairs,
   // bit for bit.
   constexpr int kPad = 8;
-  static_assert(kSelectLimit + 4 + kPad <= kPairBlock);
+  static_assert(kSelectLimit + 8 + kPad <= kPairBlock);
   auto process = [&](int n, bool long_runs) {
     if (n == 0)
       return;

@@ -1,10 +1,10 @@
 // The pair forces of a block in SIMD lanes (forces/pair_simd.hpp): one loop
 // over the pairs of the block with no data-dependent branch (the cutoffs are
-// blends), so the compiler vectorises it; built by GCC's target_clones for
-// AVX2 and for the baseline x86-64 (SSE2), chosen at load time by the CPU
-// (doc/benchmarks.md). Compiled without FMA contraction (src/core/CMakeLists.txt):
-// both paths do the same IEEE operations, so a trajectory has the same bits on
-// every x86-64 CPU. The arithmetic is that of Hat::force_over_r and
+// blends), so the compiler vectorises it; built for AVX-512 F (zmm), AVX2
+// and the baseline x86-64 (SSE2), chosen once by the CPU (Utils::cpu_prefers_zmm,
+// cpu_has_avx2; doc/benchmarks.md). Compiled without FMA contraction
+// (src/core/CMakeLists.txt): every path does the same IEEE operations, so a
+// trajectory has the same bits on every x86-64 CPU. The arithmetic is that of Hat::force_over_r and
 // DPDPair::force (pair_force.hpp) up to rounding (1/r once per pair instead
 // of the divisions): the same to ~1e-15 relative. LennardJones::force_over_r
 // with an offset is the scalar kernel's arithmetic; without one the force is
@@ -18,6 +18,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define MARBLE_PAIR_SELECT_AVX2 1
@@ -25,9 +27,7 @@
 #endif
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define MARBLE_PAIR_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MARBLE_PAIR_SIMD_CLONES
+#define MARBLE_PAIR_SIMD_TARGETS 1
 #endif
 
 namespace Marble {
@@ -433,6 +433,72 @@ __attribute__((target("avx2"))) int rows_select_avx2(int const *__restrict row_s
   return n;
 }
 
+/** The address 4 doubles before particle @p j's position, for a load whose
+ * lanes 0-3 are masked off (they are not read and do not fault); formed as an
+ * integer, so no out-of-bounds pointer arithmetic. */
+inline double const *record_minus4(Utils::Vector3d const *pos, int j) {
+  return reinterpret_cast<double const *>(reinterpret_cast<std::uintptr_t>(pos[j].data()) - 4 * sizeof(double));
+}
+
+/** rows_select_scalar<true> eight listed pairs of a row at a time in
+ * AVX-512 lanes: the partners' x, y and z gathered (index 3 j into the
+ * positions), d and r^2 by the same IEEE operations as the scalar select
+ * (no FMA), the in-range mask, and the pairs (i, j) and d compressed in
+ * registers and stored from slot n (each store writes eight lanes: @p limit
+ * <= kPairBlock - 8). The row's last group is masked to its length. */
+__attribute__((target("avx512f,avx512vl,avx2,popcnt"))) int
+rows_select_avx512(int const *__restrict row_start, int const *__restrict pj, int n_rows, RowCursor &c, int limit,
+                   Utils::Vector3d const *__restrict pos, double cut2, std::array<int, 2> *__restrict bij,
+                   PairBlockSoA &B) {
+  __m512d const c2 = _mm512_set1_pd(cut2);
+  int n = 0, i = c.i, k = c.k;
+  for (; i < n_rows; ++i) {
+    int const k1 = row_start[i + 1];
+    if (k >= k1)
+      continue;
+    __m512d const xi = _mm512_set1_pd(pos[i][0]), yi = _mm512_set1_pd(pos[i][1]), zi = _mm512_set1_pd(pos[i][2]);
+    __m512i const iv = _mm512_set1_epi64(static_cast<long long>(static_cast<std::uint32_t>(i)));
+    for (; k < k1; k += 8) {
+      if (n > limit) {
+        c = {i, k};
+        return n;
+      }
+      __m256i const jv = _mm256_loadu_si256(reinterpret_cast<__m256i const *>(pj + k));
+      int const *const pk = pj + k;
+      // a_q = (r_{j_q}, 0 | r_{j_{q+4}}, 0) by two masked loads (the upper one
+      // addressed 4 doubles before its record: the masked-off lanes do not
+      // fault), then transposed to x, y, z of the eight partners
+      __m512d const a0 = _mm512_mask_loadu_pd(_mm512_maskz_loadu_pd(0x07, pos[pk[0]].data()), 0x70, record_minus4(pos, pk[4]));
+      __m512d const a1 = _mm512_mask_loadu_pd(_mm512_maskz_loadu_pd(0x07, pos[pk[1]].data()), 0x70, record_minus4(pos, pk[5]));
+      __m512d const a2 = _mm512_mask_loadu_pd(_mm512_maskz_loadu_pd(0x07, pos[pk[2]].data()), 0x70, record_minus4(pos, pk[6]));
+      __m512d const a3 = _mm512_mask_loadu_pd(_mm512_maskz_loadu_pd(0x07, pos[pk[3]].data()), 0x70, record_minus4(pos, pk[7]));
+      __m512d const t0 = _mm512_unpacklo_pd(a0, a1); // x0 x1 z0 z1 | x4 x5 z4 z5
+      __m512d const t1 = _mm512_unpackhi_pd(a0, a1); // y0 y1 0 0 | y4 y5 0 0
+      __m512d const t2 = _mm512_unpacklo_pd(a2, a3); // x2 x3 z2 z3 | x6 x7 z6 z7
+      __m512d const t3 = _mm512_unpackhi_pd(a2, a3);
+      __m512i const ix = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), iz = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+      __m512d const dx = _mm512_sub_pd(xi, _mm512_permutex2var_pd(t0, ix, t2));
+      __m512d const dy = _mm512_sub_pd(yi, _mm512_permutex2var_pd(t1, ix, t3));
+      __m512d const dz = _mm512_sub_pd(zi, _mm512_permutex2var_pd(t0, iz, t2));
+      __m512d const r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+                                       _mm512_mul_pd(dz, dz));
+      int const rem = k1 - k;
+      // !(r2 >= cut2), true for a NaN; lanes past the row's end off
+      __mmask8 const m = _mm512_mask_cmp_pd_mask(static_cast<__mmask8>(rem >= 8 ? 255u : (1u << rem) - 1u), r2, c2,
+                                                 _CMP_NGE_UQ);
+      __m512i const prs = _mm512_or_si512(iv, _mm512_slli_epi64(_mm512_cvtepu32_epi64(jv), 32));
+      _mm512_storeu_si512(bij + n, _mm512_maskz_compress_epi64(m, prs));
+      _mm512_storeu_pd(B.dx + n, _mm512_maskz_compress_pd(m, dx));
+      _mm512_storeu_pd(B.dy + n, _mm512_maskz_compress_pd(m, dy));
+      _mm512_storeu_pd(B.dz + n, _mm512_maskz_compress_pd(m, dz));
+      n += std::popcount(static_cast<unsigned>(m));
+    }
+    k = k1;
+  }
+  c = {i, k};
+  return n;
+}
+
 int rows_select_avx2_one_type(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
                               Utils::Vector3d const *pos, double cut2, std::array<int, 2> *bij, PairBlockSoA &B) {
   double const cut2_table[1] = {cut2};
@@ -578,6 +644,8 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
                      std::array<int, 2> *bij, PairBlockSoA &b) {
   if (nt == 1) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
+    if (Utils::cpu_prefers_zmm())
+      return rows_select_avx512(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
     if (Utils::cpu_has_avx2())
       return rows_select_avx2_one_type(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
 #endif
@@ -635,6 +703,8 @@ std::vector<PairRowsSelectPath> pair_rows_select_paths() {
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
     out.push_back({"avx2", &rows_select_avx2_one_type});
+  if (Utils::cpu_prefers_zmm())
+    out.push_back({"avx512", &rows_select_avx512});
 #endif
   return out;
 }
@@ -663,8 +733,8 @@ std::vector<PairSelectPath> pair_select_paths() {
 #define MARBLE_BLOCK_CASES(L, H) MARBLE_BLOCK_CASES_DPD(L, H, false)
 #endif
 
-MARBLE_PAIR_SIMD_CLONES
-void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
+namespace {
+[[gnu::always_inline]] inline void block_forces_switch(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
   unsigned const sw = 16u * static_cast<unsigned>(p.lj) | (p.hat ? 1u : 0u) | (p.dpd ? 2u : 0u) |
                       (p.dpd && p.trans ? 4u : 0u) | (p.dpd && mass ? 8u : 0u);
   // every divisor of the kernels in use a power of two (a zero or off range divides by 1)
@@ -691,5 +761,45 @@ void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &
 #undef MARBLE_BLOCK_CASES
 #undef MARBLE_BLOCK_CASES_DPD
 #undef MARBLE_BLOCK_CASE
+
+#ifdef MARBLE_PAIR_SIMD_TARGETS
+// the loop built for AVX-512 F (zmm, 8 pairs a vector), AVX2 and baseline
+// x86-64, chosen once by the CPU (Utils::cpu_prefers_zmm, cpu_has_avx2):
+// the same IEEE operations (no FMA: -ffp-contract=off, and none of these
+// targets has FMA), so the same bits
+__attribute__((target("avx512f"))) void block_forces_avx512(SimdPairParams const &p, bool mass, int n,
+                                                             PairBlockSoA &b) {
+  block_forces_switch(p, mass, n, b);
+}
+__attribute__((target("avx2"))) void block_forces_avx2(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
+  block_forces_switch(p, mass, n, b);
+}
+#endif
+void block_forces_baseline(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
+  block_forces_switch(p, mass, n, b);
+}
+} // namespace
+
+void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b) {
+#ifdef MARBLE_PAIR_SIMD_TARGETS
+  static auto *const fn = Utils::cpu_prefers_zmm() ? &block_forces_avx512
+                          : Utils::cpu_has_avx2()  ? &block_forces_avx2
+                                                   : &block_forces_baseline;
+  fn(p, mass, n, b);
+#else
+  block_forces_baseline(p, mass, n, b);
+#endif
+}
+
+std::vector<PairBlockForcesPath> pair_block_forces_paths() {
+  std::vector<PairBlockForcesPath> out{{"baseline", &block_forces_baseline}};
+#ifdef MARBLE_PAIR_SIMD_TARGETS
+  if (Utils::cpu_has_avx2())
+    out.push_back({"avx2", &block_forces_avx2});
+  if (__builtin_cpu_supports("avx512f"))
+    out.push_back({"avx512", &block_forces_avx512});
+#endif
+  return out;
+}
 
 } // namespace Marble

@@ -86,11 +86,13 @@ struct RowCursor {
 };
 
 /** pair_block_select on the rows of a VerletPairs list (@p row_start, @p pj,
- * @p n_rows; pj padded by 4 valid indices), from @p c on: the selected pairs
+ * @p n_rows; pj padded by 8 valid indices), from @p c on: the selected pairs
  * (i, j) and d at slots 0, 1, ... of @p bij and @p b, in list order, until
- * more than @p limit (<= kPairBlock - 4) are stored or the rows end; @p c
+ * more than @p limit (<= kPairBlock - 8) are stored or the rows end; @p c
  * then says where to go on. r_i is loaded once per row. The same selection
- * and the same bits as pair_block_select on the expanded pairs. */
+ * and the same bits as pair_block_select on the expanded pairs. One type:
+ * eight listed pairs a group in AVX-512 registers where
+ * Utils::cpu_prefers_zmm(), else four with AVX2, else scalar. */
 int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
                      Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
                      std::array<int, 2> *bij, PairBlockSoA &b);
@@ -153,6 +155,14 @@ std::vector<PairTypedSelectPath> pair_typed_select_paths();
 /** f = force on i of the pairs s < n of @p b (all of one type pair, @p p);
  * @p mass: use b.m (DPD_MASS_*), else M = 1. */
 void pair_block_forces(SimdPairParams const &p, bool mass, int n, PairBlockSoA &b);
+
+/** Every build of pair_block_forces this CPU runs (baseline x86-64, AVX2,
+ * AVX-512 F), by name, for the tests that check that they agree bit for bit. */
+struct PairBlockForcesPath {
+  char const *name;
+  void (*forces)(SimdPairParams const &, bool, int, PairBlockSoA &);
+};
+std::vector<PairBlockForcesPath> pair_block_forces_paths();
 
 /** The SIMD form of a type pair's parameters, or false where it has none. */
 bool simd_pair_params(IAParams const &ia, unsigned mask, SimdPairParams &out);

@@ -188,7 +188,7 @@ template <class Fn>
 void for_each_selected_block(ParticleStore const &ps, PairList const &pairs, InteractionTable const &ia,
                              PairBlockSoA &B, Fn &&fn) {
   constexpr int limit = 248;
-  static_assert(limit + 4 <= kPairBlock);
+  static_assert(limit + 8 <= kPairBlock);
   int const nt = ia.n_types();
   auto cut2 = pair_cut2_table(ia);
   if (cut2.empty())
