@@ -446,16 +446,22 @@ inline double const *record_minus4(Utils::Vector3d const *pos, int j) {
  * (no FMA), the in-range mask, and the pairs (i, j) and d compressed in
  * registers and stored from slot n (each store writes eight lanes: @p limit
  * <= kPairBlock - 8). The row's last group is masked to its length. */
+template <bool OneType>
 __attribute__((target("avx512f,avx512vl,avx2,popcnt"))) int
 rows_select_avx512(int const *__restrict row_start, int const *__restrict pj, int n_rows, RowCursor &c, int limit,
-                   Utils::Vector3d const *__restrict pos, double cut2, std::array<int, 2> *__restrict bij,
+                   Utils::Vector3d const *__restrict pos, int const *__restrict typ,
+                   double const *__restrict cut2_table, int nt, std::array<int, 2> *__restrict bij,
                    PairBlockSoA &B) {
-  __m512d const c2 = _mm512_set1_pd(cut2);
+  __m512d c2 = _mm512_set1_pd(cut2_table[0]);
   int n = 0, i = c.i, k = c.k;
   for (; i < n_rows; ++i) {
     int const k1 = row_start[i + 1];
     if (k >= k1)
       continue;
+    // several types (nt <= 8): the row's line of the cutoff table in lanes
+    __m512d c2row = c2;
+    if constexpr (!OneType)
+      c2row = _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << nt) - 1u), cut2_table + typ[i] * nt);
     __m512d const xi = _mm512_set1_pd(pos[i][0]), yi = _mm512_set1_pd(pos[i][1]), zi = _mm512_set1_pd(pos[i][2]);
     __m512i const iv = _mm512_set1_epi64(static_cast<long long>(static_cast<std::uint32_t>(i)));
     for (; k < k1; k += 8) {
@@ -482,6 +488,8 @@ rows_select_avx512(int const *__restrict row_start, int const *__restrict pj, in
       __m512d const dz = _mm512_sub_pd(zi, _mm512_permutex2var_pd(t0, iz, t2));
       __m512d const r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
                                        _mm512_mul_pd(dz, dz));
+      if constexpr (!OneType) // each partner's cutoff: the row's line at its type
+        c2 = _mm512_permutexvar_pd(_mm512_cvtepu32_epi64(_mm256_i32gather_epi32(typ, jv, 4)), c2row);
       int const rem = k1 - k;
       // !(r2 >= cut2), true for a NaN; lanes past the row's end off
       __mmask8 const m = _mm512_mask_cmp_pd_mask(static_cast<__mmask8>(rem >= 8 ? 255u : (1u << rem) - 1u), r2, c2,
@@ -497,6 +505,19 @@ rows_select_avx512(int const *__restrict row_start, int const *__restrict pj, in
   }
   c = {i, k};
   return n;
+}
+
+int rows_select_avx512_one_type(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                                Utils::Vector3d const *pos, double cut2, std::array<int, 2> *bij, PairBlockSoA &B) {
+  double const cut2_table[1] = {cut2};
+  return rows_select_avx512<true>(row_start, pj, n_rows, c, limit, pos, nullptr, cut2_table, 1, bij, B);
+}
+
+/** rows_select_avx512<false>, for nt <= 8 (the table's line in one register). */
+int rows_select_avx512_typed(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
+                             Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
+                             std::array<int, 2> *bij, PairBlockSoA &B) {
+  return rows_select_avx512<false>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, B);
 }
 
 int rows_select_avx2_one_type(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
@@ -645,13 +666,15 @@ int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor 
   if (nt == 1) {
 #ifdef MARBLE_PAIR_SELECT_AVX2
     if (Utils::cpu_prefers_zmm())
-      return rows_select_avx512(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
+      return rows_select_avx512_one_type(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
     if (Utils::cpu_has_avx2())
       return rows_select_avx2_one_type(row_start, pj, n_rows, c, limit, pos, cut2_table[0], bij, b);
 #endif
     return rows_select_scalar<true>(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
   }
 #ifdef MARBLE_PAIR_SELECT_AVX2
+  if (Utils::cpu_prefers_zmm() && nt <= 8)
+    return rows_select_avx512_typed(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
   if (Utils::cpu_has_avx2())
     return rows_select_avx2_typed(row_start, pj, n_rows, c, limit, pos, typ, cut2_table, nt, bij, b);
 #endif
@@ -694,6 +717,9 @@ std::vector<PairTypedSelectPath> pair_typed_select_paths() {
 #ifdef MARBLE_PAIR_SELECT_AVX2
   if (Utils::cpu_has_avx2())
     out.push_back({"avx2", &select_avx2_typed, &rows_select_avx2_typed});
+  // (the block select has no AVX-512 form; the AVX-512 rows take nt <= 8)
+  if (Utils::cpu_prefers_zmm())
+    out.push_back({"avx512", &select_avx2_typed, &rows_select_avx512_typed});
 #endif
   return out;
 }
@@ -704,7 +730,7 @@ std::vector<PairRowsSelectPath> pair_rows_select_paths() {
   if (Utils::cpu_has_avx2())
     out.push_back({"avx2", &rows_select_avx2_one_type});
   if (Utils::cpu_prefers_zmm())
-    out.push_back({"avx512", &rows_select_avx512});
+    out.push_back({"avx512", &rows_select_avx512_one_type});
 #endif
   return out;
 }

@@ -90,9 +90,9 @@ struct RowCursor {
  * (i, j) and d at slots 0, 1, ... of @p bij and @p b, in list order, until
  * more than @p limit (<= kPairBlock - 8) are stored or the rows end; @p c
  * then says where to go on. r_i is loaded once per row. The same selection
- * and the same bits as pair_block_select on the expanded pairs. One type:
- * eight listed pairs a group in AVX-512 registers where
- * Utils::cpu_prefers_zmm(), else four with AVX2, else scalar. */
+ * and the same bits as pair_block_select on the expanded pairs. Eight listed
+ * pairs a group in AVX-512 registers where Utils::cpu_prefers_zmm() (and at
+ * most 8 types), else four with AVX2, else scalar. */
 int pair_rows_select(int const *row_start, int const *pj, int n_rows, RowCursor &c, int limit,
                      Utils::Vector3d const *pos, int const *typ, double const *cut2_table, int nt,
                      std::array<int, 2> *bij, PairBlockSoA &b);
