@@ -18,16 +18,11 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define MARBLE_PAIR_SELECT_AVX2 1
-#include <immintrin.h>
-#endif
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
 #define MARBLE_PAIR_SIMD_TARGETS 1
+#include <immintrin.h>
 #endif
 
 namespace Marble {
@@ -440,12 +435,14 @@ inline double const *record_minus4(Utils::Vector3d const *pos, int j) {
   return reinterpret_cast<double const *>(reinterpret_cast<std::uintptr_t>(pos[j].data()) - 4 * sizeof(double));
 }
 
-/** rows_select_scalar<true> eight listed pairs of a row at a time in
- * AVX-512 lanes: the partners' x, y and z gathered (index 3 j into the
- * positions), d and r^2 by the same IEEE operations as the scalar select
- * (no FMA), the in-range mask, and the pairs (i, j) and d compressed in
- * registers and stored from slot n (each store writes eight lanes: @p limit
- * <= kPairBlock - 8). The row's last group is masked to its length. */
+/** rows_select_scalar<OneType> eight listed pairs of a row at a time in
+ * AVX-512 lanes: the partners' positions by masked loads, transposed to x, y
+ * and z; d and r^2 by the same IEEE operations as the scalar select (no
+ * FMA); with several types (nt <= 8) each partner's cutoff from the row's
+ * line of the table by its type; the in-range mask, and the pairs (i, j) and
+ * d compressed in registers and stored from slot n (each store writes eight
+ * lanes: @p limit <= kPairBlock - 8). The row's last group is masked to its
+ * length. */
 template <bool OneType>
 __attribute__((target("avx512f,avx512vl,avx2,popcnt"))) int
 rows_select_avx512(int const *__restrict row_start, int const *__restrict pj, int n_rows, RowCursor &c, int limit,
