@@ -410,6 +410,65 @@ class Setup(unittest.TestCase):
         self.assertEqual(len(s.part.all()), 0)
         self.assertFalse(s.thermostat.dpd.active)
 
+    @skipIfMissingFeatures("TRANS_DPD", "ROTATION")
+    def test_cs_shell(self):
+        """cs_shell: the colloid-solvent hat, DPD and stick friction on a given shell;
+        the shell of the default (equal-volume) rule given explicitly is the default
+        scene bit for bit; the rule's F_max uses the given shell; a larger colloid with
+        the R = 1 colloid's shell and F_max (doc/suspensions.md 7q); bad input."""
+        kw = dict(phi=0.1, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=5, boundary="stick")
+        s0, s1 = self.system(), self.system()
+        i0 = sus.setup_suspension(s0, **kw)
+        a = i0["core_radius"]
+        i1 = sus.setup_suspension(s1, cs_shell=sus.surface_cutoff(a), solvent_count="bulk",
+                                  adsorbed=sus.ADSORBED_PER_AREA * 4 * math.pi * a * a, **kw)
+        for prop in ("pos", "v", "type", "mass", "omega_lab"):
+            np.testing.assert_array_equal(getattr(s0.part.all(), prop), getattr(s1.part.all(), prop))
+        for kind in ("hat", "dpd", "surface_friction"):
+            self.assertEqual(getattr(s0.non_bonded_inter[1, 0], kind).get_params(),
+                             getattr(s1.non_bonded_inter[1, 0], kind).get_params())
+        self.assertEqual((i0["cutoff_surface"], i0["a_cs"]), (i1["cutoff_surface"], i1["a_cs"]))
+        self.assertAlmostEqual(i1["cutoff_centre"], i0["cutoff_centre"], places=14)
+        # the rules on a given shell: "seed" a_ss/shell, "mean_field" by quadrature
+        for R, rp in ((1.0, 0.4), (2.0, 0.265)):
+            self.assertAlmostEqual(sus.colloid_solvent_repulsion(R, rule="seed", shell=rp), 25.0 / rp, places=12)
+            F = sus.colloid_solvent_repulsion(R, shell=rp)
+            r = np.linspace(R, R + rp, 200001)
+            f = F * (rp - (r - R)) ** 2 / (2 * rp) * 4 * np.pi * r ** 2
+            self.assertAlmostEqual(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r)), np.pi * 25 / 15, delta=1e-8)
+        # R = 2 with the R = 1 colloid's shell and F_max: every colloid-solvent kernel on that shell
+        s2 = marble.System(box_l=[12.0] * 3)
+        s2.time_step = 0.001
+        rp1, F1 = sus.surface_cutoff(a), sus.colloid_solvent_repulsion(a, a_ss=2.5)
+        i2 = sus.setup_suspension(s2, **dict(kw, radius=2.0, radius_calibration="none", phi=0.15),
+                                  cs_shell=rp1, a_cs=F1, solvent_count="exact")
+        ia = s2.non_bonded_inter
+        hat, dpd, sf = ia[1, 0].hat.get_params(), ia[1, 0].dpd.get_params(), ia[1, 0].surface_friction.get_params()
+        self.assertEqual((hat["offset"], hat["cutoff"], hat["F_max"]), (2.0, rp1, F1))
+        self.assertEqual((dpd["offset"], dpd["r_cut"]), (2.0, rp1))
+        self.assertEqual((sf["a1"], sf["r_cut"], i2["stick_shell"]), (2.0, rp1, rp1))
+        self.assertEqual((i2["cutoff_surface"], i2["cutoff_centre"]), (rp1, 2.0 + rp1))
+        # without a_cs the rule takes the given shell
+        s3 = marble.System(box_l=[12.0] * 3)
+        i3 = sus.setup_suspension(s3, **dict(kw, radius=2.0, radius_calibration="none", phi=0.15),
+                                  cs_shell=rp1, solvent_count="exact")
+        self.assertAlmostEqual(i3["a_cs"], sus.colloid_solvent_repulsion(2.0, a_ss=2.5, shell=rp1), places=12)
+        # a stick_shell still wins for the friction
+        s4 = marble.System(box_l=[12.0] * 3)
+        sus.setup_suspension(s4, **dict(kw, radius=2.0, radius_calibration="none", phi=0.15),
+                             cs_shell=rp1, stick_shell=0.4, solvent_count="exact")
+        self.assertEqual(s4.non_bonded_inter[1, 0].surface_friction.get_params()["r_cut"], 0.4)
+        # bad input: a clear ValueError, nothing changed
+        for bad, msg in ((dict(cs_shell=0.0), "cs_shell"), (dict(cs_shell=-0.2), "cs_shell"),
+                         (dict(cs_shell="thin"), "cs_shell"), (dict(cs_shell=0.3), "adsorbed")):
+            s = self.system()
+            with self.assertRaisesRegex(ValueError, msg):
+                sus.setup_suspension(s, **kw, **bad)
+            self.assertEqual(len(s.part.all()), 0)
+            self.assertFalse(s.thermostat.dpd.active)
+        with self.assertRaisesRegex(ValueError, "shell"):
+            sus.colloid_solvent_repulsion(1.0, shell=0.0)
+
     def test_positions(self):
         s = self.system()
         info = sus.setup_suspension(s, phi=0.01, radius=1.0, kT=0.1, gamma=4.5, eta=0.3, seed=1,

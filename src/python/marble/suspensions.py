@@ -112,16 +112,18 @@ def _hat_shell_integral(R, rc):
     return c * c * rc ** 3 / 3.0 - c * rc ** 4 / 2.0 + rc ** 5 / 5.0
 
 
-def colloid_solvent_repulsion(R, a_ss=25.0, r_cut=1.0, rule="mean_field"):
-    """F_max of the colloid-solvent hat on the gap (cutoff surface_cutoff(R)).
+def colloid_solvent_repulsion(R, a_ss=25.0, r_cut=1.0, rule="mean_field", shell=None):
+    """F_max of the colloid-solvent hat on the gap (cutoff ``shell``, default
+    surface_cutoff(R)).
 
     rule="seed": seed 004's 25 kT / r'_c (a_ss / r'_c; 96 at R = 1, 683 at R = 3);
     rule="mean_field" (default): the F_max for which a solvent bead's mean-field
     interaction integral int U dV over the colloid's shell equals that over a
     solvent bead's sphere, int U_ss dV = pi a_ss r_c^4 / 15 (doc/suspensions.md;
-    32.6 at R = 1, 95.5 at R = 2, 206 at R = 3 for a_ss = 25)."""
+    32.6 at R = 1, 95.5 at R = 2, 206 at R = 3 for a_ss = 25). For a ``shell``
+    other than the equal-volume one, both rules use that shell in place of r'_c."""
     _positive("R", R, allow_zero=True)
-    rp = surface_cutoff(R, r_cut)
+    rp = surface_cutoff(R, r_cut) if shell is None else _positive("shell", shell)
     if rule == "seed":
         return a_ss * r_cut / rp
     if rule != "mean_field":
@@ -182,7 +184,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                      log_term="off", morse=None, colloid_dpd=None,
                      solvent_type=0, colloid_type=1, colloid_mass=None, positions=None,
                      boundary="slip", trans_gamma=None, rinertia=None, shared=None, stick_shell=None,
-                     radius_calibration=None, solvent_count=None, adsorbed=None, lubrication_form=None):
+                     radius_calibration=None, solvent_count=None, adsorbed=None, lubrication_form=None,
+                     cs_shell=None):
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
@@ -206,7 +209,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``solvent_count="exact"`` (the stick default "bulk" needs it too).
     - Interactions (module doc): a_ss = 25 kT/r_c, the colloid-solvent hat
       F_max from ``colloid_solvent_repulsion(R, a_ss, r_c, a_cs_rule)`` unless
-      ``a_cs`` is given; contact (f_contact = 1e4 kT/r_c, delta), lubrication
+      ``a_cs`` is given; the colloid-solvent hat and DPD act on the gap up to
+      ``cs_shell`` (default None: the equal-volume surface cutoff r'_c(a) of
+      seed 004; a given shell is also the rule's shell and the stick friction
+      shell unless ``stick_shell`` is given: e.g. the shell of an R = 1 colloid
+      on a larger one, so that the surface is the same in the solvent's units,
+      doc/suspensions.md 7q); contact (f_contact = 1e4 kT/r_c, delta), lubrication
       (eta, h_cut, h_min, log_term, ``lubrication_form`` the kernel's form),
       ``morse`` a dict of the Morse kernel's eps, alpha, rmin, cutoff (offset 2R
       added), DPD with ``gamma`` on the solvent-solvent and colloid-solvent pairs
@@ -363,9 +371,11 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if log_term not in ("off", "on"):
         raise ValueError(f"parameter 'log_term' must be 'off' or 'on', got {log_term!r}")
     a_ss = 25.0 * kT / r_cut if a_ss is None else _positive("a_ss", a_ss, allow_zero=True)
+    if cs_shell is not None:
+        cs_shell = _positive("cs_shell", cs_shell)
     a_cs_given = a_cs is not None
     if a_cs is None:
-        a_cs = colloid_solvent_repulsion(R, a_ss, r_cut, a_cs_rule)
+        a_cs = colloid_solvent_repulsion(R, a_ss, r_cut, a_cs_rule, shell=cs_shell)
     a_cs = _positive("a_cs", a_cs, allow_zero=True)
     f_contact = 1e4 * kT / r_cut if f_contact is None else _positive("f_contact", f_contact)
     if seed is None or int(seed) != seed or seed < 0:
@@ -410,10 +420,12 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     n_adsorbed = 0
     if solvent_count == "bulk":
         if adsorbed is None:
-            if density != 3.0 or a_ss != 25.0 * kT / r_cut or r_cut != 1.0 or a_cs_given or a_cs_rule != "mean_field":
+            if (density != 3.0 or a_ss != 25.0 * kT / r_cut or r_cut != 1.0 or a_cs_given
+                    or a_cs_rule != "mean_field" or cs_shell is not None):
                 raise ValueError("parameter 'adsorbed' (beads adsorbed per colloid) is required for "
                                  "solvent_count='bulk' unless the solvent is seed 004's (density 3, "
-                                 "a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat): measure it "
+                                 "a_ss = 25 kT/r_c, r_c = 1, the mean-field colloid-solvent hat on the "
+                                 "equal-volume shell, no cs_shell): measure it "
                                  "with marble.suspensions.solvent_structure, or pass solvent_count='exact'")
             adsorbed = ADSORBED_PER_AREA * 4.0 * math.pi * R * R
         adsorbed = _positive("adsorbed", adsorbed, allow_zero=True)
@@ -451,7 +463,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     sol = system.part.add(pos=spos, type=[solvent_type] * len(spos),
                           v=rng.normal(size=(len(spos), 3)) * sigma_v)
     s, c = solvent_type, colloid_type
-    rp = surface_cutoff(R, r_cut)
+    rp = surface_cutoff(R, r_cut) if cs_shell is None else cs_shell
     ia = system.non_bonded_inter
     if a_ss > 0:
         ia[s, s].hat.set_params(F_max=a_ss, cutoff=r_cut)
@@ -489,7 +501,8 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
                 stresslet_radius=strain,
                 phi_stresslet=None if strain is None else n_col * 4.0 / 3.0 * math.pi * strain ** 3 / V,
                 colloid_mass=m_col, colloid_ids=np.asarray(col.id), solvent_ids=np.asarray(sol.id),
-                cutoff_centre=equal_volume_cutoff(R, r_cut), cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
+                cutoff_centre=equal_volume_cutoff(R, r_cut) if cs_shell is None else R + rp,
+                cutoff_surface=rp, a_ss=a_ss, a_cs=a_cs,
                 f_contact=f_contact, delta=delta, eta=eta, h_cut=h_cut, h_min=h_min,
                 lubrication=bool(lubrication), lubrication_form=lubrication_form if lubrication else None,
                 log_term=log_term, colloid_dpd=bool(colloid_dpd),
