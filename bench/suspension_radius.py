@@ -37,11 +37,13 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "samples"))
+sys.path.insert(0, HERE)
 
 import marble  # noqa: E402
 import marble.suspensions as sus  # noqa: E402
 from marble.theory import krieger_dougherty_viscosity as kd  # noqa: E402
 from lees_edwards_suspension import measure, zero_momentum, dimensionless, KT, GAMMA, ETA0, SOFT_CONTACT  # noqa: E402
+from suspension_shear_diagnosis import weighted  # noqa: E402  (mean, error scaled by sqrt(chi^2/dof) > 1, chi^2)
 
 A1 = 1.0 / sus.STICK_RADIUS_RATIO          # the R = 1 stick colloid's core (7d, 7k)
 SHELL1 = sus.surface_cutoff(A1)            # its colloid-solvent and friction shell on the gap
@@ -84,17 +86,6 @@ def run(args):
         with open(args.json, "a") as f:
             f.write(json.dumps(row) + "\n")
     return row
-
-
-def weighted(x, e):
-    """Weighted mean and error, the error scaled by sqrt(chi^2/dof) where that exceeds 1; chi^2."""
-    x, w = np.asarray(x, float), 1.0 / np.asarray(e, float) ** 2
-    m = float(np.sum(w * x) / np.sum(w))
-    err = float(1.0 / math.sqrt(np.sum(w)))
-    chi2 = float(np.sum(w * (x - m) ** 2))
-    if len(x) > 1 and chi2 > len(x) - 1:
-        err *= math.sqrt(chi2 / (len(x) - 1))
-    return m, err, chi2
 
 
 def table(files, eta0=ETA0_REF):
