@@ -203,7 +203,9 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``density`` once the colloids have adsorbed their shells (about 4 beads
       each; with "exact" the bulk is depleted to 2.78 at phi = 0.2, section 7e).
       ``adsorbed`` defaults to ADSORBED_PER_AREA x 4 pi a^2 (a the core radius;
-      4.00 at a = 0.987), measured for seed 004's conservative forces; with
+      4.00 at a = 0.987), measured for seed 004's conservative forces at a ~ 1
+      (a flatter surface adsorbs more: 0.42 per unit area at a = 2 with the
+      R = 1 shell, doc/suspensions.md 7q); with
       another density, a_ss, a_cs, a_cs_rule or r_cut give ``adsorbed``
       yourself (measure it with ``solvent_structure``), or pass
       ``solvent_count="exact"`` (the stick default "bulk" needs it too).
