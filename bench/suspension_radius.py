@@ -96,7 +96,6 @@ def table(files, eta0=ETA0_REF):
     print("| R | box | rate | Re, Pe | seeds | eta_r per seed | eta_r | phi (drag) | KD at drag / strain / rotation "
           "offsets | vs KD at the strain offset | CPU-s per scene |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    out = []
     for (R, rate, box), g in sorted(groups.items()):
         er = [r["eta"] / eta0[0] for r in g]
         ee = [r["eta_err"] / eta0[0] for r in g]
@@ -112,8 +111,6 @@ def table(files, eta0=ETA0_REF):
               f"{float(np.mean([r['phi'] for r in g])):.4f} | {kds['drag']:.3f} / {kds['strain']:.3f} / "
               f"{kds['rotation']:.3f} | {100 * dev:+.1f} +/- {100 * e / kds['strain']:.1f} % | "
               f"{np.mean([r['cpu_s'] for r in g]):.0f} |")
-        out.append(dict(radius=R, rate=rate, box=list(box), eta_r=m, eta_r_err=e, kd=kds, vs_kd_strain=dev))
-    return out
 
 
 def main():
