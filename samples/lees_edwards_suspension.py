@@ -54,9 +54,8 @@ import time
 import numpy as np
 
 import marble
-import marble.lees_edwards as le
 import marble.suspensions as sus
-from marble.viscosity import block_average
+from marble.viscosity import lees_edwards_viscosity
 
 R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
 SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
@@ -163,42 +162,13 @@ def zero_momentum(s):
 
 
 def measure(s, rate, time, sample_every=10, equil=10.0):
-    """Shear at ``rate`` for ``equil`` then ``time`` time units; returns
-    (eta, eta_err, slope, slope_err, kT of the peculiar velocities)."""
-    L = np.asarray(s.box_l, dtype=float)
-    s.lees_edwards.set_boundary_conditions(
-        shear_direction="x", shear_plane_normal="y",
-        protocol=le.LinearShear(shear_velocity=rate * L[1], time_0=s.time))
-    dt = s.time_step
-    parts = s.part.all()
-    # start from the linear profile (momentum diffuses across L_y in ~rho L^2 / (pi^2 eta))
-    zero_momentum(s)  # (also for scenes built elsewhere; see zero_momentum)
-    v = np.asarray(parts.v)
-    v[:, 0] += rate * (np.asarray(parts.pos_folded)[:, 1] - 0.5 * L[1])
-    parts.v = v
-    s.integrator.run(int(round(equil / dt)))
-    m = np.asarray(parts.mass, dtype=float) if marble.has_features("MASS") else np.ones(len(parts))
-    n_bins = 8
-    edges = np.linspace(0, L[1], n_bins + 1)
-    pxy, prof, kts = [], [], []
-    for _ in range(max(2, int(round(time / (sample_every * dt))))):
-        s.integrator.run(sample_every)
-        p = s.analysis.pressure_tensor()
-        pxy.append(0.5 * ((p["total"] + p["dpd"])[0, 1] + (p["total"] + p["dpd"])[1, 0]))
-        y = np.asarray(parts.pos_folded)[:, 1]
-        vel = np.asarray(parts.v)
-        idx = np.clip(np.digitize(y, edges) - 1, 0, n_bins - 1)
-        mass_bin = np.bincount(idx, m, n_bins)
-        prof.append(np.bincount(idx, m * vel[:, 0], n_bins) / np.maximum(mass_bin, 1e-300))
-        c = vel.copy()
-        c[:, 0] -= rate * y
-        c -= (m[:, None] * c).sum(axis=0) / m.sum()
-        kts.append((m[:, None] * c ** 2).sum() / (3 * (len(m) - 1)))
-    mp, mp_err = block_average(pxy, min_blocks=8)
-    prof = np.array(prof)
-    yc = 0.5 * (edges[1:] + edges[:-1])
-    slope, cov = np.polyfit(yc, prof.mean(axis=0), 1, cov=True)
-    return -mp / rate, mp_err / rate, slope[0], float(np.sqrt(cov[0, 0])), float(np.mean(kts))
+    """Shear at ``rate`` for ``equil`` then ``time`` time units
+    (``marble.viscosity.lees_edwards_viscosity``: mass-weighted zero momentum,
+    the linear profile to start, 8 bins, blocking with at least 8 blocks);
+    returns (eta, eta_err, slope, slope_err, kT of the peculiar velocities)."""
+    r = lees_edwards_viscosity(s, rate, time, equilibration=equil, sample_every=sample_every,
+                               n_bins=8, min_blocks=8)
+    return r.eta, r.eta_err, r.slope, r.slope_err, r.kT
 
 
 def main():

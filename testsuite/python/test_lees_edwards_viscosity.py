@@ -16,17 +16,17 @@ reads ~2-4 % lower, doc/lees-edwards.md):
     the Lees-Edwards images) agrees with the reverse-Poiseuille measurement of
     the same fluid (doc/dpd.md: 0.844 +/- 0.012 and 0.851 +/- 0.017, pooled
     0.846 +/- 0.010) within 3 combined error bars.
-Errors: blocking analysis (marble.viscosity.block_average). ~35 s (VV) and
-~45 s (Shardlow). Measured (seed 11): VV slope 0.2998, kT 1.0145, eta 0.851
-+/- 0.012; Shardlow slope 0.2994 +/- 0.0006 (chi^2 25.2 / 14), kT 1.0103 +/-
-0.0008, eta 0.873 +/- 0.012. `python3 test_lees_edwards_viscosity.py vv
+Measured by marble.viscosity.lees_edwards_viscosity (errors by blocking,
+at least 16 blocks). ~35 s (VV) and
+~45 s (Shardlow). Measured (seed 11): VV slope 0.2992 +/- 0.0007 (chi^2
+10.0 / 14), kT 1.0171 +/- 0.0008, eta 0.857 +/- 0.012; Shardlow slope 0.2995
++/- 0.0005 (chi^2 12.5 / 14), kT 1.0104 +/- 0.0008, eta 0.838 +/- 0.012. `python3 test_lees_edwards_viscosity.py vv
 shardlow` prints both."""
 import numpy as np
 import pytest
 
 import marble
-import marble.lees_edwards as le
-from marble.viscosity import block_average
+from marble.viscosity import lees_edwards_viscosity
 
 pytestmark = pytest.mark.skipif(not marble.has_features("HAT"), reason="Groot-Warren water needs the HAT feature")
 
@@ -35,7 +35,6 @@ ETA_RP, ETA_RP_ERR = 0.846, 0.010  # doc/dpd.md, pooled reverse Poiseuille of GW
 
 def sheared_fluid(integrator="shardlow", L=(8.0, 8.0, 8.0), rate=0.3, dt=0.01, t_run=700.0, seed=11):
     L = np.asarray(L, dtype=float)
-    V = rate * L[1]
     rng = np.random.default_rng(seed)
     n = int(round(3.0 * np.prod(L)))
     s = marble.System(box_l=L)
@@ -50,42 +49,11 @@ def sheared_fluid(integrator="shardlow", L=(8.0, 8.0, 8.0), rate=0.3, dt=0.01, t
     if integrator == "shardlow":
         s.integrator.set_shardlow()
     s.integrator.run(int(round(10.0 / dt)))  # the overlaps of the random start relax at rest
-    parts = s.part.all()
-    v = np.asarray(parts.v)
-    v[:, 0] += rate * (np.asarray(parts.pos_folded)[:, 1] - 0.5 * L[1])  # the steady profile
-    parts.v = v
-    s.lees_edwards.set_boundary_conditions(shear_direction="x", shear_plane_normal="y",
-                                           protocol=le.LinearShear(shear_velocity=V))
-    s.integrator.run(int(round(20.0 / dt)))
-    n_bins = 16
-    edges = np.linspace(0, L[1], n_bins + 1)
-    pxy, prof, kts = [], [], []
-    every = max(1, int(round(0.1 / dt)))
-    for _ in range(int(round(t_run / (every * dt)))):
-        s.integrator.run(every)
-        pt = s.analysis.pressure_tensor()
-        p = pt["total"] + pt["dpd"]
-        pxy.append(0.5 * (p[0, 1] + p[1, 0]))
-        y = np.asarray(parts.pos_folded)[:, 1]
-        vel = np.asarray(parts.v)
-        idx = np.clip(np.digitize(y, edges) - 1, 0, n_bins - 1)
-        prof.append(np.bincount(idx, vel[:, 0], n_bins) / np.maximum(np.bincount(idx, None, n_bins), 1))
-        c = vel.copy()
-        c[:, 0] -= rate * y
-        c -= c.mean(axis=0)
-        kts.append((c ** 2).sum() / (3 * (n - 1)))
-    prof = np.array(prof)
-    yc = 0.5 * (edges[1:] + edges[:-1])
-    means, errs = zip(*(block_average(prof[:, k], min_blocks=8) for k in range(n_bins)))
-    means, errs = np.array(means), np.array(errs)
-    A = np.vstack([yc, np.ones_like(yc)]).T / errs[:, None]
-    coef, *_ = np.linalg.lstsq(A, means / errs, rcond=None)
-    cov = np.linalg.inv(A.T @ A)
-    resid = (means - (coef[0] * yc + coef[1])) / errs
-    kt, kt_err = block_average(kts)
-    mp, mp_err = block_average(pxy)
-    return dict(slope=coef[0], slope_err=np.sqrt(cov[0, 0]), chi2=float((resid ** 2).sum()),
-                dof=n_bins - 2, kt=kt, kt_err=kt_err, eta=-mp / rate, eta_err=mp_err / rate, rate=rate)
+    # the steady profile to start, 20 time units sheared, then sampled every 0.1
+    r = lees_edwards_viscosity(s, rate, t_run, equilibration=20.0, sample_every=max(1, int(round(0.1 / dt))),
+                               n_bins=16, min_blocks=16)
+    return dict(slope=r.slope, slope_err=r.slope_err, chi2=r.chi2, dof=r.dof, kt=r.kT, kt_err=r.kT_err,
+                eta=r.eta, eta_err=r.eta_err, rate=rate)
 
 
 def check(r, kt_tol):

@@ -12,6 +12,8 @@ with one curvature; eta's error bar comes from the scatter of the fits of
 independent time blocks. ``block_average`` is the usual blocking analysis
 (Flyvbjerg, Petersen, J. Chem. Phys. 91, 461 (1989)).
 """
+import numbers
+
 import numpy as np
 
 from .code_features import has_features
@@ -236,3 +238,148 @@ def reverse_poiseuille(system, g, time, equilibration=None, n_bins=None, n_block
                             z=z_centres, v=v_mean, v_err=v_err, fit=fit, g=g, n=n,
                             kT=float(kT), v_max=float(np.nanmax(np.abs(fit))),
                             time=steps_per_block * n_blocks * dt)
+
+
+class ShearResult:
+    """Result of :func:`lees_edwards_viscosity`.
+
+    Attributes: ``eta``, ``eta_err`` (-<P_sn>/rate and its blocking error),
+    ``rate``, ``slope``, ``slope_err``, ``chi2``, ``dof`` (weighted straight-line
+    fit of the mass-weighted mean flow ``v`` +/- ``v_err`` against the bin centres
+    ``y`` along the normal: the realised shear rate and how linear the profile
+    is; ``chi2`` is NaN when a bin has no error bar), ``kT``, ``kT_err``
+    (kinetic temperature of the velocities relative to the imposed linear flow,
+    3 (N - 1) degrees of freedom), ``p_sn`` (the sampled symmetric shear
+    stress, one value per sample), ``n_samples`` and ``sample_time`` (time
+    between samples).
+    """
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+    def __repr__(self):
+        return (f"ShearResult(eta={self.eta:.4f} +/- {self.eta_err:.4f}, slope={self.slope:.5f} "
+                f"+/- {self.slope_err:.5f} (rate {self.rate}), kT={self.kT:.4f})")
+
+
+def _integer(name, value, lowest):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < lowest:
+        raise ValueError(f"parameter '{name}' must be an integer >= {lowest}, got {value!r}")
+    return int(value)
+
+
+def _real(name, value, lowest=None, nonzero=False):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
+        raise ValueError(f"parameter '{name}' must be a finite number, got {value!r}")
+    if lowest is not None and value < lowest:
+        raise ValueError(f"parameter '{name}' must be >= {lowest}, got {value!r}")
+    if nonzero and value == 0:
+        raise ValueError(f"parameter '{name}' must be nonzero, got {value!r}")
+    return float(value)
+
+
+def lees_edwards_viscosity(system, rate, time, equilibration=10.0, sample_every=10, n_bins=8,
+                           shear_direction="x", shear_plane_normal="y", linear_start=True,
+                           zero_momentum=True, min_blocks=8):
+    """Shear viscosity in uniform simple shear under Lees-Edwards boundary
+    conditions (doc/lees-edwards.md): eta = -<P_sn>/rate.
+
+    Switches on ``marble.lees_edwards.LinearShear`` with the shear velocity
+    ``rate * L_n`` from the current time (velocity along ``shear_direction`` s,
+    gradient along ``shear_plane_normal`` n), then:
+
+    1. ``zero_momentum``: removes the **mass-weighted** mean velocity
+       (``system.galilei.galilei_transform()``). A net momentum along n carries
+       the material across the shear plane and biases eta by +M V_n^2 t / V,
+       growing with the run; with particles of different masses an unweighted
+       mean leaves one (doc/suspensions.md section 7k).
+    2. ``linear_start``: adds the steady profile rate (r_n - L_n/2) to the
+       velocities along s, so the flow need not build up by diffusion
+       (~rho L_n^2/(pi^2 eta)).
+    3. runs ``equilibration`` time units, then ``time`` time units, sampling
+       every ``sample_every`` steps: the symmetric shear stress
+       (P_sn + P_ns)/2 of ``pressure_tensor()``'s 'total' + 'dpd' parts (kinetic,
+       every pair kernel's virial including lubrication and surface friction,
+       and the DPD pair stress), the mass-weighted flow profile in ``n_bins``
+       bins along n, and the kinetic temperature in the frame of the imposed
+       flow.
+
+    Errors by blocking (:func:`block_average` with ``min_blocks``). The
+    boundary conditions stay on afterwards (``system.lees_edwards.protocol =
+    None`` switches them off). Bad input raises ValueError naming the
+    parameter before anything changes. Returns a :class:`ShearResult`.
+
+    For a suspension's relative viscosity measure eta_0 of the pure solvent
+    the same way (same box, integrator, time step and rate) and divide.
+    """
+    from .lees_edwards import LinearShear, _axis
+    rate = _real("rate", rate, nonzero=True)
+    time = _real("time", time)
+    if time <= 0:
+        raise ValueError(f"parameter 'time' must be > 0, got {time!r}")
+    equilibration = _real("equilibration", equilibration, lowest=0.0)
+    sample_every = _integer("sample_every", sample_every, 1)
+    n_bins = _integer("n_bins", n_bins, 3)
+    min_blocks = _integer("min_blocks", min_blocks, 2)
+    s_ax = _axis("shear_direction", shear_direction)
+    n_ax = _axis("shear_plane_normal", shear_plane_normal)
+    if s_ax == n_ax:
+        raise ValueError("parameters 'shear_direction' and 'shear_plane_normal' must be different "
+                         f"axes, got {shear_direction!r} for both")
+    dt = float(system.time_step)
+    if not dt > 0:
+        raise ValueError("system.time_step must be set")
+    n_samples = max(2, int(round(time / (sample_every * dt))))
+    parts = system.part.all()
+    if len(parts) < 2:
+        raise ValueError("lees_edwards_viscosity needs at least 2 particles")
+    L = np.asarray(system.box_l, dtype=float)
+    axes = "xyz"
+    system.lees_edwards.set_boundary_conditions(
+        shear_direction=axes[s_ax], shear_plane_normal=axes[n_ax],
+        protocol=LinearShear(shear_velocity=rate * L[n_ax], time_0=system.time))
+    if zero_momentum:
+        system.galilei.galilei_transform()
+    if linear_start:
+        v = np.asarray(parts.v)
+        v[:, s_ax] += rate * (np.asarray(parts.pos_folded)[:, n_ax] - 0.5 * L[n_ax])
+        parts.v = v
+    system.integrator.run(int(round(equilibration / dt)))
+    m = np.asarray(parts.mass, dtype=float) if has_features("MASS") else np.ones(len(parts))
+    edges = np.linspace(0, L[n_ax], n_bins + 1)
+    pxy, prof, kts = [], [], []
+    for _ in range(n_samples):
+        system.integrator.run(sample_every)
+        p = system.analysis.pressure_tensor()
+        pt = p["total"] + p["dpd"]
+        pxy.append(0.5 * (pt[s_ax, n_ax] + pt[n_ax, s_ax]))
+        y = np.asarray(parts.pos_folded)[:, n_ax]
+        vel = np.asarray(parts.v)
+        idx = np.clip(np.digitize(y, edges) - 1, 0, n_bins - 1)
+        mass_bin = np.bincount(idx, m, n_bins)
+        prof.append(np.bincount(idx, m * vel[:, s_ax], n_bins) / np.maximum(mass_bin, 1e-300))
+        c = vel.copy()
+        c[:, s_ax] -= rate * y
+        c -= (m[:, None] * c).sum(axis=0) / m.sum()
+        kts.append((m[:, None] * c ** 2).sum() / (3 * (len(m) - 1)))
+    mp, mp_err = block_average(pxy, min_blocks=min_blocks)
+    kt, kt_err = block_average(kts, min_blocks=min_blocks)
+    prof = np.array(prof)
+    yc = 0.5 * (edges[1:] + edges[:-1])
+    means, errs = zip(*(block_average(prof[:, k], min_blocks=min_blocks) for k in range(n_bins)))
+    means, errs = np.array(means), np.array(errs)
+    weighted = bool(np.all(errs > 0))
+    w = 1.0 / errs if weighted else np.ones(n_bins)
+    A = np.vstack([yc, np.ones_like(yc)]).T * w[:, None]
+    coef, *_ = np.linalg.lstsq(A, means * w, rcond=None)
+    resid = (means - (coef[0] * yc + coef[1])) * w
+    if weighted:
+        cov = np.linalg.inv(A.T @ A)
+        chi2 = float((resid ** 2).sum())
+    else:  # unweighted: the scatter about the line sets the error
+        cov = np.linalg.inv(A.T @ A) * float((resid ** 2).sum()) / max(n_bins - 2, 1)
+        chi2 = float("nan")
+    return ShearResult(eta=float(-mp / rate), eta_err=float(mp_err / abs(rate)), rate=rate,
+                       slope=float(coef[0]), slope_err=float(np.sqrt(cov[0, 0])), chi2=chi2,
+                       dof=n_bins - 2, kT=float(kt), kT_err=float(kt_err), y=yc, v=means, v_err=errs,
+                       p_sn=np.asarray(pxy), n_samples=n_samples, sample_time=sample_every * dt)
