@@ -454,8 +454,9 @@ if __name__ == "__main__":
         ap.add_argument("cmd")
         ap.add_argument("files", nargs="+", help="JSON-lines files of samples/lees_edwards_suspension.py --json")
         ap.add_argument("--eta0", type=float, nargs=2, default=[0.3290, 0.0030])
+        ap.add_argument("--rate", type=float, default=0.05, help="the shear rate of the rows to table")
         a = ap.parse_args()
-        for r in lees_edwards_table(a.files, eta0=a.eta0[0], eta0_err=a.eta0[1]):
+        for r in lees_edwards_table(a.files, eta0=a.eta0[0], eta0_err=a.eta0[1], rate=a.rate):
             per = ", ".join(f"{v:.3f}({1000 * e:.0f}) ({sd})" for (v, e), sd in zip(r["per_seed"], r["seeds"]))
             print(f"{r['solvent_count']} phi {r['phi']:.4f}: {per}; eta_r = {r['eta_r']:.3f} +/- "
                   f"{r['eta_r_err']:.3f} (chi^2 {r['chi2']:.1f}/{len(r['seeds']) - 1}); theory {r['theory']:.3f}: "
