@@ -268,16 +268,6 @@ def _integer(name, value, lowest):
     return int(value)
 
 
-def _real(name, value, lowest=None, nonzero=False):
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-        raise ValueError(f"parameter '{name}' must be a finite number, got {value!r}")
-    if lowest is not None and value < lowest:
-        raise ValueError(f"parameter '{name}' must be >= {lowest}, got {value!r}")
-    if nonzero and value == 0:
-        raise ValueError(f"parameter '{name}' must be nonzero, got {value!r}")
-    return float(value)
-
-
 def lees_edwards_viscosity(system, rate, time, equilibration=10.0, sample_every=10, n_bins=8,
                            shear_direction="x", shear_plane_normal="y", linear_start=True,
                            zero_momentum=True, min_blocks=8):
@@ -312,12 +302,16 @@ def lees_edwards_viscosity(system, rate, time, equilibration=10.0, sample_every=
     For a suspension's relative viscosity measure eta_0 of the pure solvent
     the same way (same box, integrator, time step and rate) and divide.
     """
-    from .lees_edwards import LinearShear, _axis
-    rate = _real("rate", rate, nonzero=True)
-    time = _real("time", time)
+    from .lees_edwards import LinearShear, _axis, _finite
+    rate = _finite("rate", rate)
+    if rate == 0:
+        raise ValueError("parameter 'rate' must be nonzero, got 0.0")
+    time = _finite("time", time)
     if time <= 0:
         raise ValueError(f"parameter 'time' must be > 0, got {time!r}")
-    equilibration = _real("equilibration", equilibration, lowest=0.0)
+    equilibration = _finite("equilibration", equilibration)
+    if equilibration < 0:
+        raise ValueError(f"parameter 'equilibration' must be >= 0, got {equilibration!r}")
     sample_every = _integer("sample_every", sample_every, 1)
     n_bins = _integer("n_bins", n_bins, 3)
     min_blocks = _integer("min_blocks", min_blocks, 2)
@@ -334,9 +328,8 @@ def lees_edwards_viscosity(system, rate, time, equilibration=10.0, sample_every=
     if len(parts) < 2:
         raise ValueError("lees_edwards_viscosity needs at least 2 particles")
     L = np.asarray(system.box_l, dtype=float)
-    axes = "xyz"
     system.lees_edwards.set_boundary_conditions(
-        shear_direction=axes[s_ax], shear_plane_normal=axes[n_ax],
+        shear_direction=s_ax, shear_plane_normal=n_ax,
         protocol=LinearShear(shear_velocity=rate * L[n_ax], time_0=system.time))
     if zero_momentum:
         system.galilei.galilei_transform()
@@ -372,12 +365,10 @@ def lees_edwards_viscosity(system, rate, time, equilibration=10.0, sample_every=
     w = 1.0 / errs if weighted else np.ones(n_bins)
     A = np.vstack([yc, np.ones_like(yc)]).T * w[:, None]
     coef, *_ = np.linalg.lstsq(A, means * w, rcond=None)
-    resid = (means - (coef[0] * yc + coef[1])) * w
-    if weighted:
-        cov = np.linalg.inv(A.T @ A)
-        chi2 = float((resid ** 2).sum())
-    else:  # unweighted: the scatter about the line sets the error
-        cov = np.linalg.inv(A.T @ A) * float((resid ** 2).sum()) / max(n_bins - 2, 1)
+    chi2 = float((((means - (coef[0] * yc + coef[1])) * w) ** 2).sum())
+    cov = np.linalg.inv(A.T @ A)
+    if not weighted:  # the scatter about the line sets the error
+        cov *= chi2 / max(n_bins - 2, 1)
         chi2 = float("nan")
     return ShearResult(eta=float(-mp / rate), eta_err=float(mp_err / abs(rate)), rate=rate,
                        slope=float(coef[0]), slope_err=float(np.sqrt(cov[0, 0])), chi2=chi2,
