@@ -394,8 +394,11 @@ def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.6
     """eta_r of the uniform-shear scenes (samples/lees_edwards_suspension.py --json),
     grouped by (solvent count, phi): the weighted mean over seeds (error scaled by
     sqrt(chi^2/dof) when chi^2 > dof, eta_0's error added), the theory (Batchelor
-    at phi < 0.15, else Krieger-Dougherty), and the effective radius R_eff / R =
-    (phi_eff / phi)^(1/3) for which Krieger-Dougherty gives the measured eta_r."""
+    at phi < 0.15, else Krieger-Dougherty), the effective radius R_eff / R =
+    (phi_eff / phi)^(1/3) for which Krieger-Dougherty gives the measured eta_r, and
+    the deviations from de Kruif et al.'s hard-sphere fits (1 - phi/phi_m)^-2 at low
+    (phi_m = 0.63) and high shear (0.71) (marble.theory.quemada_viscosity)."""
+    from marble.theory import quemada_viscosity
     rows = [json.loads(line) for f in files for line in open(f) if line.strip()]
     groups = {}
     for r in rows:
@@ -415,9 +418,13 @@ def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.6
         theory = 1 + 2.5 * phi + 6.2 * phi ** 2 if phi < 0.15 else (1 - phi / phi_m) ** (-2.5 * phi_m)
         pe = [kd_inverse(v, phi_m) for v in (m - err, m, m + err)]
         ratio = [(p / phi) ** (1.0 / 3.0) for p in pe]
+        # de Kruif et al. (1985): the hard-sphere fits (1 - phi/phi_m)^-2 at low and at high shear
+        q_low, q_high = quemada_viscosity(phi, 0.63), quemada_viscosity(phi, 0.71)
         out.append(dict(solvent_count=count, phi=phi, seeds=[r["seed"] for r in sel], eta_r=m, eta_r_err=err,
                         chi2=chi2, per_seed=list(zip(x.tolist(), e.tolist())), theory=theory,
-                        deviation=m / theory - 1, deviation_err=err / theory, phi_eff=pe[1],
+                        deviation=m / theory - 1, deviation_err=err / theory,
+                        hard_sphere_low_shear=q_low, deviation_low_shear=m / q_low - 1,
+                        hard_sphere_high_shear=q_high, deviation_high_shear=m / q_high - 1, phi_eff=pe[1],
                         radius_ratio=ratio[1], radius_ratio_err=0.5 * (ratio[2] - ratio[0]),
                         cpu_s=[r.get("cpu_s") for r in sel]))
     return out
@@ -461,7 +468,10 @@ if __name__ == "__main__":
             print(f"{r['solvent_count']} phi {r['phi']:.4f}: {per}; eta_r = {r['eta_r']:.3f} +/- "
                   f"{r['eta_r_err']:.3f} (chi^2 {r['chi2']:.1f}/{len(r['seeds']) - 1}); theory {r['theory']:.3f}: "
                   f"{100 * r['deviation']:+.1f} +/- {100 * r['deviation_err']:.1f} %; KD phi_eff {r['phi_eff']:.4f}, "
-                  f"R_eff/R = {r['radius_ratio']:.3f} +/- {r['radius_ratio_err']:.3f}")
+                  f"R_eff/R = {r['radius_ratio']:.3f} +/- {r['radius_ratio_err']:.3f}; hard-sphere fits "
+                  f"(de Kruif et al. 1985) low shear {r['hard_sphere_low_shear']:.3f}: "
+                  f"{100 * r['deviation_low_shear']:+.1f} %, high shear {r['hard_sphere_high_shear']:.3f}: "
+                  f"{100 * r['deviation_high_shear']:+.1f} %")
         sys.exit(0)
     if len(sys.argv) > 1 and sys.argv[1] == "eta":
         ap = argparse.ArgumentParser(description="eta_r table of the calibrated stick scenes")

@@ -55,6 +55,7 @@ import numpy as np
 
 import marble
 import marble.suspensions as sus
+from marble import theory
 from marble.viscosity import lees_edwards_viscosity
 
 R, KT, GAMMA, ETA0 = 1.0, 0.1, 4.5, 0.3
@@ -248,8 +249,12 @@ def main():
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
     if marble.mpi_rank() == 0:
-        print(f"eta_r({args.phi}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "
-              f"(Batchelor 1 + 2.5 phi + 6.2 phi^2 = {1 + 2.5 * args.phi + 6.2 * args.phi ** 2:.3f})")
+        ph = args.phi
+        print(f"eta_r({ph}) = {er:.3f} +/- {abs(er) * np.hypot(s0 / e0, s1 / e1):.3f} "
+              f"(Batchelor 1 + 2.5 phi + 6.2 phi^2 = {theory.batchelor_viscosity(ph):.3f}, "
+              f"Krieger-Dougherty phi_m 0.63 = {theory.krieger_dougherty_viscosity(ph):.3f}, hard spheres "
+              f"(de Kruif et al. 1985) at low shear {theory.quemada_viscosity(ph, 0.63):.3f}, "
+              f"at high shear {theory.quemada_viscosity(ph, 0.71):.3f}; doc/suspensions.md 7s)")
 
 
 if __name__ == "__main__":

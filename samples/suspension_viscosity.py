@@ -255,6 +255,9 @@ def main():
     ph = np.linspace(0.0, max(0.35, max(r[0] for r in rows)), 100)
     ax.plot(ph, theory.batchelor_viscosity(ph), "-", label="Batchelor 1 + 2.5 phi + 6.2 phi^2")
     ax.plot(ph, theory.krieger_dougherty_viscosity(ph), "--", label="Krieger-Dougherty, phi_m = 0.63")
+    # measured hard spheres (de Kruif et al. 1985): (1 - phi/phi_m)^-2, low and high shear
+    ax.plot(ph, theory.quemada_viscosity(ph, 0.63), ":", label="hard spheres, low shear (1 - phi/0.63)^-2")
+    ax.plot(ph, theory.quemada_viscosity(ph, 0.71), "-.", label="hard spheres, high shear (1 - phi/0.71)^-2")
     ax.errorbar([r[0] for r in rows], [r[1] for r in rows], yerr=[r[2] for r in rows], fmt="o",
                 label=f"core-modified DPD, {args.boundary} colloids (reverse Poiseuille)")
     ax.set_xlabel("phi")

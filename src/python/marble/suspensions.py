@@ -160,8 +160,69 @@ def _min_image(d, L):
     return d - L * np.round(d / L)
 
 
-def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000):
-    """Random sequential placement of n spheres (no two closer than 2R + min_gap)."""
+#: Random sequential addition is used up to this volume fraction of the spheres of
+#: diameter 2R + min_gap; denser scenes are compressed (place_colloids)
+PHI_RSA = 0.33
+#: The densest scene place_colloids builds (a fluid: hard spheres freeze at 0.494,
+#: coexist with the crystal up to 0.545; beyond, the compression stalls near a glass)
+PHI_PLACE_MAX = 0.55
+
+
+def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000, max_sweeps=20000):
+    """n non-overlapping spheres in the periodic box L (no two centres closer than
+    2R + min_gap), at random.
+
+    Up to a volume fraction PHI_RSA = 0.33 of the spheres of diameter 2R + min_gap:
+    random sequential addition (the scenes of every earlier version, bit for bit).
+    Above it, where addition slows and then jams (near 0.38): addition of smaller
+    spheres at 0.3, then a hard-sphere Monte Carlo compression: sweeps of random
+    single-sphere moves that keep every centre distance above the current diameter,
+    which after each sweep grows to the smallest centre distance (never above the
+    target), until it reaches 2R + min_gap. The result is a random, amorphous
+    packing of the target spheres (not an equilibrated fluid: run the system at
+    rest for a while before measuring); up to PHI_PLACE_MAX = 0.55."""
+    L = np.asarray(L, float)
+    V = float(np.prod(L))
+    d_target = 2.0 * radius + min_gap
+    phi_d = n * math.pi / 6.0 * d_target ** 3 / V
+    if phi_d <= PHI_RSA:
+        return _place_rsa(L, n, d_target, rng, max_tries)
+    if phi_d > PHI_PLACE_MAX:
+        raise ValueError(f"parameter 'phi': {n} spheres of diameter 2R + gap = {d_target:.4g} fill "
+                         f"{phi_d:.3f} of the box; place_colloids builds random scenes up to "
+                         f"{PHI_PLACE_MAX} (place denser ones yourself: positions=...)")
+    d = d_target * (0.3 / phi_d) ** (1.0 / 3.0)
+    pos = _place_rsa(L, n, d, rng, max_tries)
+    step = 0.5 * d
+
+    def min_dist(i, x):
+        r = np.linalg.norm(_min_image(np.delete(pos, i, axis=0) - x, L), axis=1)
+        return r.min()
+
+    def all_min():
+        dd = _min_image(pos[:, None, :] - pos[None, :, :], L)
+        r = np.linalg.norm(dd, axis=2)
+        r[np.diag_indices(n)] = np.inf
+        return r.min()
+
+    for _ in range(max_sweeps):
+        accepted = 0
+        for i in rng.permutation(n):
+            x = np.mod(pos[i] + rng.uniform(-step, step, 3), L)
+            if min_dist(i, x) >= d:
+                pos[i] = x
+                accepted += 1
+        d = min(d_target, all_min())
+        if d >= d_target:
+            return pos
+        # keep about a third of the moves accepted
+        step = float(np.clip(step * (1.2 if accepted > 0.4 * n else 0.8), 1e-4 * d_target, 0.5 * d_target))
+    raise ValueError(f"parameter 'phi': the compression reached only diameter {d:.4g} of "
+                     f"{d_target:.4g} in {max_sweeps} sweeps; place the colloids yourself (positions=...)")
+
+
+def _place_rsa(L, n, d, rng, max_tries):
+    """Random sequential addition of n centres at least d apart."""
     pos = np.empty((0, 3))
     tries = 0
     while len(pos) < n:
@@ -172,7 +233,7 @@ def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000):
                 "random sequential addition (jams near phi = 0.38); place them yourself "
                 "(positions=...) or compress a dilute suspension")
         x = rng.uniform(0, 1, size=3) * L
-        if len(pos) and np.min(np.linalg.norm(_min_image(pos - x, L), axis=1)) < 2 * radius + min_gap:
+        if len(pos) and np.min(np.linalg.norm(_min_image(pos - x, L), axis=1)) < d:
             continue
         pos = np.vstack([pos, x])
     return pos
@@ -189,7 +250,9 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     """Fill ``system`` (empty) with a colloid suspension at volume fraction ``phi``.
 
     - Colloids: N = round(phi V / (4/3 pi R^3)), placed at random without
-      overlap (or at ``positions``), mass ``density (4/3) pi R^3`` (seed 004).
+      overlap (place_colloids: random sequential addition, or above a volume
+      fraction 0.33 of the spheres of diameter 2R + delta a compression, up to
+      0.55) or at ``positions``, mass ``density (4/3) pi R^3`` (seed 004).
     - Solvent: ``density`` beads per unit volume outside the colloid cores
       (beads drawn uniformly over the box, those inside a core removed).
       ``solvent_count`` (default None: ``"poisson"`` for "slip", ``"bulk"`` for

@@ -237,6 +237,22 @@ def krieger_dougherty_viscosity(phi, phi_m=0.63, intrinsic=2.5):
     return _scalar((1.0 - phi / phi_m) ** (-intrinsic * phi_m))
 
 
+def quemada_viscosity(phi, phi_m=0.63, exponent=2.0):
+    """Relative viscosity (1 - phi/phi_m)^(-exponent) (Quemada 1977, Rheol. Acta 16,
+    82; exponent 2). De Kruif, van Iersel, Vrij & Russel (1985, J. Chem. Phys. 83,
+    4717) fitted this form to sterically stabilised silica hard spheres: phi_m = 0.63
+    for the low-shear (zero-shear) viscosity, phi_m = 0.71 for the high-shear limit
+    (3.71 and 3.04 at phi = 0.303). It is Krieger-Dougherty with [eta] = exponent/phi_m
+    (3.17 at phi_m = 0.63, not Einstein's 2.5), so it is meant for concentrated
+    suspensions, not for the dilute limit (Batchelor there)."""
+    phi = np.asarray(phi, dtype=float)
+    phi_m = float(_pos("phi_m", phi_m))
+    exponent = float(_pos("exponent", exponent))
+    if np.any(phi < 0) or np.any(phi >= phi_m) or np.any(~np.isfinite(phi)):
+        raise ValueError(f"parameter 'phi' must be in [0, phi_m = {phi_m}), got {phi}")
+    return _scalar((1.0 - phi / phi_m) ** (-exponent))
+
+
 def carnahan_starling_contact(phi):
     """Hard-sphere contact value g(2R+) = (1 - phi/2)/(1 - phi)^3 (1.758 at phi = 0.2)."""
     phi = np.asarray(phi, dtype=float)
