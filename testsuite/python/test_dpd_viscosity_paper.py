@@ -2,7 +2,9 @@
 """Full-size viscosity of the marble paper's solvent (label `paper`, run by hand;
 ~8 min on one core): reverse Poiseuille flow in a 12 x 12 x 16 box over 2000 time
 units, eta to ~0.5 %. Must lie in [1.23, 1.26] within 2 error bars (measured:
-1.2734 +/- 0.0067, at the edge; doc/dpd.md discusses the ~2 % excess)."""
+1.2734 +/- 0.0067, at the edge; rerun 2026-12-04: 1.2776 +/- 0.0065, which fails by
+0.005; Shardlow and dt = 0.005 give the same, doc/dpd.md discusses the ~2 % excess, an
+open question, not fixed by loosening this bound)."""
 import unittest
 
 from test_dpd_viscosity import ETA_RANGE, measure_eta
