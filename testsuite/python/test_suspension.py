@@ -98,6 +98,18 @@ class Helpers(unittest.TestCase):
         self.assertGreater(np.std(np.sum(r < 2.3, axis=1)), 0.8)
         with self.assertRaisesRegex(ValueError, "phi"):
             sus.place_colloids(L, 70, 1.0, np.random.default_rng(5))  # 0.573 > PHI_PLACE_MAX
+        # more than PLACE_MC_MAX_N colloids: overlap removal, the same checks
+        n = 200
+        L2 = np.full(3, (n * 4 / 3 * math.pi / 0.45) ** (1 / 3))  # phi 0.45 (0.457 with the gap)
+        p = sus.place_colloids(L2, n, 1.0, np.random.default_rng(0), min_gap=0.01)
+        self.assertEqual(p.shape, (n, 3))
+        self.assertTrue(np.all((p >= 0) & (p < L2)))
+        r = np.linalg.norm(min_image(p[:, None, :] - p[None, :, :], L2), axis=2)
+        r[np.diag_indices(n)] = np.inf
+        self.assertGreaterEqual(r.min(), 2.01)
+        self.assertGreater(np.std(np.sum(r < 2.3, axis=1)), 0.8)  # measured 1.3-1.4, seeds 0-2
+        np.testing.assert_array_equal(p, sus.place_colloids(L2, n, 1.0, np.random.default_rng(0),
+                                                            min_gap=0.01))
 
     def test_diffusion_time(self):
         # seed 004: R = 1, eta0 = 0.3, kT = 0.1 -> tau_D = R^2/D = 56.5
