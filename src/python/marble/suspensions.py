@@ -178,7 +178,8 @@ def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000, max_sweeps=
     Up to a volume fraction PHI_RSA = 0.33 of the spheres of diameter 2R + min_gap:
     random sequential addition (the scenes of every earlier version, bit for bit).
     Above it, where addition slows and then jams (near 0.38), addition of smaller
-    spheres at 0.3, then
+    spheres at 0.3, then:
+
     - n <= PLACE_MC_MAX_N = 150: a hard-sphere Monte Carlo compression: sweeps of
       random single-sphere moves that keep every centre distance above the current
       diameter, which after each sweep grows to the smallest centre distance (never
@@ -188,6 +189,7 @@ def place_colloids(L, n, radius, rng, min_gap=0.0, max_tries=200000, max_sweeps=
       sphere by half the overlap plus 1e-3 of the diameter), all pairs at once,
       until none overlaps (pairs by scipy's periodic k-d tree; ~1 s for 1000
       colloids at 0.45).
+
     The result is a random, amorphous packing of the target spheres (not an
     equilibrated fluid: run the system at rest for a while before measuring); up to
     PHI_PLACE_MAX = 0.55."""
