@@ -230,11 +230,18 @@ def batchelor_viscosity(phi):
 def krieger_dougherty_viscosity(phi, phi_m=0.63, intrinsic=2.5):
     """Relative viscosity (1 - phi/phi_m)^(-[eta] phi_m) (Krieger & Dougherty 1959):
     1.139, 1.313, 1.825, 2.77, 4.89 at phi = 0.05, 0.1, 0.2, 0.3, 0.4 (phi_m = 0.63)."""
+    phi, phi_m = _below_phi_m(phi, phi_m)
+    return _scalar((1.0 - phi / phi_m) ** (-intrinsic * phi_m))
+
+
+def _below_phi_m(phi, phi_m):
+    """(phi as an array, phi_m as a float); ValueError unless phi_m > 0 and
+    0 <= phi < phi_m."""
     phi = np.asarray(phi, dtype=float)
     phi_m = float(_pos("phi_m", phi_m))
     if np.any(phi < 0) or np.any(phi >= phi_m) or np.any(~np.isfinite(phi)):
         raise ValueError(f"parameter 'phi' must be in [0, phi_m = {phi_m}), got {phi}")
-    return _scalar((1.0 - phi / phi_m) ** (-intrinsic * phi_m))
+    return phi, phi_m
 
 
 def quemada_viscosity(phi, phi_m=0.63, exponent=2.0):
@@ -245,11 +252,8 @@ def quemada_viscosity(phi, phi_m=0.63, exponent=2.0):
     (3.71 and 3.04 at phi = 0.303). It is Krieger-Dougherty with [eta] = exponent/phi_m
     (3.17 at phi_m = 0.63, not Einstein's 2.5), so it is meant for concentrated
     suspensions, not for the dilute limit (Batchelor there)."""
-    phi = np.asarray(phi, dtype=float)
-    phi_m = float(_pos("phi_m", phi_m))
     exponent = float(_pos("exponent", exponent))
-    if np.any(phi < 0) or np.any(phi >= phi_m) or np.any(~np.isfinite(phi)):
-        raise ValueError(f"parameter 'phi' must be in [0, phi_m = {phi_m}), got {phi}")
+    phi, phi_m = _below_phi_m(phi, phi_m)
     return _scalar((1.0 - phi / phi_m) ** (-exponent))
 
 
