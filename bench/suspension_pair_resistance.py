@@ -31,6 +31,11 @@ at density 3); R = 1 is the drag radius (section 7d, c = 1.013(10)).
 
     build/pymarble bench/suspension_pair_resistance.py --time 3000 --seed 1 \
         --json bench/results/suspension_pair_resistance.json
+
+--mode frozen holds the pair at --gap and takes the squeeze and transverse frictions from
+the force autocorrelation; --shared full|split|off sets the stick kernel's treatment of a
+bead inside both colloids' friction shells (section 7t compares the transverse friction with
+bench/two_sphere_stokes.py's no-slip pair for "full" and "off").
 """
 import argparse
 import json
@@ -75,6 +80,9 @@ parser.add_argument("--mode", choices=["sweep", "frozen"], default="sweep",
 parser.add_argument("--gap", type=float, default=0.3, help="frozen: the gap h = r - 2R")
 parser.add_argument("--t-max", type=float, nargs="+", default=[2.0, 5.0, 10.0, 20.0, 40.0],
                     help="frozen: upper limits of the Green-Kubo integral")
+parser.add_argument("--shared", choices=["full", "split", "off"], default="full",
+                    help="the stick kernel's treatment of a bead in both colloids' friction shells "
+                    "(setup_suspension's shared; default full, as in every run before)")
 parser.add_argument("--quiet", action="store_true")
 args = parser.parse_args()
 
@@ -105,7 +113,7 @@ def new_pair_system(r0):
     pos = [[c0 - 0.5 * r0, c0, c0], [c0 + 0.5 * r0, c0, c0]]
     info = sus.setup_suspension(s, phi=0.01, radius=R, kT=KT, gamma=GAMMA, eta=ETA_KERNEL, seed=args.seed,
                                 positions=pos, boundary="stick", solvent_count="exact",
-                                lubrication=False, colloid_dpd=False)
+                                lubrication=False, colloid_dpd=False, shared=args.shared)
     col = s.part.by_ids(info["colloid_ids"])
     col.mass = [M_BIG, M_BIG]
     col.rinertia = np.full((2, 3), M_BIG)
@@ -168,6 +176,7 @@ if args.mode == "frozen":
     lam_lub = 1.5 * math.pi * ETA_KERNEL * a * a / max(h_core, info["h_min"]) * 2 / zeta0 if h_core < info["h_cut"] else 0.0
     lam_cdpd = GAMMA * max(1 - h_core, 0.0) ** 2 * 2 / zeta0
     out = dict(bench="suspension_pair_resistance", mode="frozen", L=L, gap=args.gap, gap_end=h_run, dt=args.dt,
+               shared=args.shared,
                chunk=k, seed=args.seed, time=args.time, equil=args.equil, R=R, core_radius=a, kT=KT,
                eta0=eta0, eta0_err=eta0_err, n_solvent=info["n_solvent"], blocks=args.blocks,
                gk=res, theory_squeeze=th, theory_squeeze_lubrication=theory.two_sphere_squeeze_lubrication(h_run / R),

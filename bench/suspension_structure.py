@@ -392,7 +392,7 @@ def kd_inverse(eta_r, phi_m=0.63):
 
 def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.63):
     """eta_r of the uniform-shear scenes (samples/lees_edwards_suspension.py --json),
-    grouped by (solvent count, phi): the weighted mean over seeds (error scaled by
+    grouped by (solvent count, kernels, the stick shells' ``shared`` mode, phi): the weighted mean over seeds (error scaled by
     sqrt(chi^2/dof) when chi^2 > dof, eta_0's error added), the theory (Batchelor
     at phi < 0.15, else Krieger-Dougherty), the effective radius R_eff / R =
     (phi_eff / phi)^(1/3) for which Krieger-Dougherty gives the measured eta_r, and
@@ -406,7 +406,8 @@ def lees_edwards_table(files, eta0=0.3290, eta0_err=0.0030, rate=0.05, phi_m=0.6
             continue
         variant = r.get("solvent_count", "exact") + ("" if r.get("lubrication", True) else ", no lubrication") + \
             ("" if r.get("h_cut", 1.0) in (None, 1.0) else f", h_cut {r['h_cut']}") + \
-            ("" if r.get("colloid_dpd", True) else ", no colloid DPD")
+            ("" if r.get("colloid_dpd", True) else ", no colloid DPD") + \
+            ("" if r.get("shared", "full") == "full" else f", shared {r['shared']}")
         groups.setdefault((variant, r["phi_nominal"]), []).append(r)
     out = []
     for (count, pn), sel in sorted(groups.items()):

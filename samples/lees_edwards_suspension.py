@@ -25,7 +25,7 @@ the stability check refuses a too large one).
         [--phi 0.1] [--time 200] [--vv] [--dt DT] [--boundary stick]
         [--no-lubrication] [--no-colloid-dpd | --colloid-dpd] [--h-cut H]
         [--lubrication-form plain|shifted] [--solvent-count exact|bulk]
-        [--mass-scale M]
+        [--mass-scale M] [--shared full|split|off]
 
 --mass-scale M multiplies the mass of every particle (solvent beads 1 -> M,
 colloids their setup_suspension mass x M, the colloids' rotational inertia x M;
@@ -63,12 +63,15 @@ SOFT_CONTACT = dict(f_contact=50.0, delta=0.02)
 
 
 def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, solvent_count=None,
-          lubrication=True, colloid_dpd=None, h_cut=None, lubrication_form=None, mass_scale=1.0):
+          lubrication=True, colloid_dpd=None, h_cut=None, lubrication_form=None, mass_scale=1.0,
+          shared=None):
     """The scene at volume fraction ``phi`` (0: the solvent alone), ``equil`` time
     units at rest. None for ``solvent_count``, ``colloid_dpd``, ``h_cut`` and
     ``lubrication_form``: setup_suspension's default for ``boundary``, except
     that the solvent count of "slip" is "exact" (this sample's). ``mass_scale``
-    multiplies every mass and rotational inertia (see scale_masses). Returns (system, info)."""
+    multiplies every mass and rotational inertia (see scale_masses). ``shared``
+    (stick only; None: setup_suspension's "full"): the stick kernel's treatment of a
+    bead in the friction shells of two colloids. Returns (system, info)."""
     mass_scale = check_mass_scale(mass_scale)
     if solvent_count is None and boundary == "slip":
         solvent_count = "exact"
@@ -81,7 +84,7 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
                                     seed=seed, h_cut=h_cut, solvent_count=solvent_count, boundary=boundary,
                                     lubrication=lubrication, colloid_dpd=colloid_dpd,
                                     lubrication_form=lubrication_form,
-                                    **SOFT_CONTACT)
+                                    **({} if shared is None else dict(shared=shared)), **SOFT_CONTACT)
     else:  # the solvent alone: the same solvent interactions and thermostat
         rng = np.random.default_rng(seed)
         n = int(round(3.0 * np.prod(box)))
@@ -199,6 +202,9 @@ def main():
     ap.add_argument("--h-cut", type=float, default=None,
                     help="the lubrication kernel's range on the core gap (default setup_suspension's: 1.0 = r_c "
                          "for slip and the plain form, 0.15 for stick's shifted form, doc/suspensions.md 7g/7i)")
+    ap.add_argument("--shared", choices=["full", "split", "off"], default=None,
+                    help="stick only: the friction of a bead in two colloids' shells (setup_suspension's "
+                         "shared; default full; doc/suspensions.md 7c, 7t)")
     ap.add_argument("--lubrication-form", choices=["plain", "shifted"], default=None,
                     help="the lubrication kernel's form (default setup_suspension's: plain for slip, shifted, "
                          "i.e. zero at h_cut, for stick)")
@@ -221,7 +227,7 @@ def main():
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
                         colloid_dpd=args.colloid_dpd, h_cut=args.h_cut, lubrication_form=args.lubrication_form,
-                        mass_scale=args.mass_scale, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        mass_scale=args.mass_scale, shared=args.shared if phi else None, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
@@ -232,6 +238,8 @@ def main():
         if args.json:
             import json
             extra = {} if args.mass_scale == 1.0 else dict(mass_scale=args.mass_scale)
+            if phi and args.shared is not None:  # (earlier lines: "full", the default)
+                extra["shared"] = info["shared"]
             if marble.mpi_size() > 1:  # (cpu_s is rank 0's)
                 extra["ranks"] = marble.mpi_size()
             with open(args.json, "a") as f:
