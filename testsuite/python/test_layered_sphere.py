@@ -176,13 +176,9 @@ def test_layer_from_profile_and_bad_input():
 # --- bench/stick_colloid_layer.py (section 7o) ---
 
 def _bench():
-    import importlib.util
     import os
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench", "stick_colloid_layer.py")
-    spec = importlib.util.spec_from_file_location("stick_colloid_layer", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod, os.path.join(os.path.dirname(path), "results", "stick_colloid_layer.jsonl")
+    from bench_module import BENCH_DIR, load_bench
+    return load_bench("stick_colloid_layer"), os.path.join(BENCH_DIR, "results", "stick_colloid_layer.jsonl")
 
 
 def test_bench_density_and_model(tmp_path, capsys):

@@ -164,13 +164,8 @@ def test_bad_input():
 # --- bench/stick_colloid_radii.py's bookkeeping of the stick settings (section 7n) ---
 
 def _bench():
-    import importlib.util
-    import os
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench", "stick_colloid_radii.py")
-    spec = importlib.util.spec_from_file_location("stick_colloid_radii", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    from bench_module import load_bench
+    return load_bench("stick_colloid_radii")
 
 
 def _drive(b, Rr, a, seed, L=None, torque=0.85, Dt=None, **setting):

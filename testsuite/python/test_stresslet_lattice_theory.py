@@ -157,14 +157,8 @@ def test_factor():
 # --- bench/stick_colloid_stresslet.py's table (section 7p) ---
 
 def _bench():
-    import importlib.util
-    import os
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench",
-                        "stick_colloid_stresslet.py")
-    spec = importlib.util.spec_from_file_location("stick_colloid_stresslet", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    from bench_module import load_bench
+    return load_bench("stick_colloid_stresslet")
 
 
 def test_bench_table_recovers_radius(tmp_path, capsys):

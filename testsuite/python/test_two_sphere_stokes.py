@@ -7,26 +7,16 @@ exact bispherical series (marble.theory) at several gaps; far apart the transver
 equals the inverted Rotne-Prager mobility, and the Stimson-Jeffery-like symmetry holds
 (the transverse resistance falls towards 1 as the gap opens); the extrapolation helper
 on a synthetic O(h) sequence; bad input."""
-import importlib.util
 import math
-import os
 
 import numpy as np
 import pytest
 
+from bench_module import load_bench
 from marble import theory
 
 
-def _bench():
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench",
-                        "two_sphere_stokes.py")
-    spec = importlib.util.spec_from_file_location("two_sphere_stokes", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-B = _bench()
+B = load_bench("two_sphere_stokes")
 
 
 def test_mirror_solve_equals_full_solve():
