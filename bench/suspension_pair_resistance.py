@@ -360,7 +360,7 @@ for label, y in [("solvent", m_odd), ("solvent_plus_lubrication", m_odd + lam_lu
         print(f"fit {label:45s} {kind:6s}: {f['value']:+.4f} [{f['lo']:+.4f}, {f['hi']:+.4f}] "
               f"chi2 {f['chi2']:.1f}/{f['dof']}; eta0 -/+ 1 sigma: {f['eta0_minus']:+.4f} {f['eta0_plus']:+.4f}")
 
-out = dict(bench="suspension_pair_resistance", mode="squeeze", L=L, U=args.U, dt=args.dt, chunk=k,
+out = dict(bench="suspension_pair_resistance", mode="squeeze", shared=args.shared, L=L, U=args.U, dt=args.dt, chunk=k,
            seed=args.seed, time=args.time, equil=args.equil, discarded=n_discard * tau, period=period,
            h_lo=args.h_lo, h_hi=args.h_hi, R=R, core_radius=a, kT=KT, eta0=eta0, eta0_err=eta0_err,
            n_solvent=n_solvent, colloid_mass_during_sweeps=M_BIG,
