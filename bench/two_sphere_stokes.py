@@ -112,8 +112,7 @@ def pair_resistances(n, xi, ce=0.5, theta0=0.3, full=False):
                        stokeslet_matrix(X2, X2, eps).reshape(3 * n, 3 * n)]])
     for name, sign, v, c in modes:
         if full:
-            v2 = [-v[0], -v[1], -v[2]]
-            f = np.linalg.solve(M, np.concatenate([np.tile(v, n), np.tile(v2, n)])).reshape(2 * n, 3)[:n]
+            f = np.linalg.solve(M, np.concatenate([np.tile(v, n), np.tile(np.negative(v), n)])).reshape(2 * n, 3)[:n]
         else:
             # sphere 2's force at the mirror point: +R f1 (squeeze, even) or -R f1 (transverse, odd)
             Mm = (A + sign * B * np.array([-1.0, 1.0, 1.0])[None, None, None, :]).reshape(3 * n, 3 * n)

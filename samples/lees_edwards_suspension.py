@@ -215,6 +215,8 @@ def main():
                          "Re = 3 M rate R^2/eta_0(M), doc/suspensions.md 7l")
     ap.add_argument("--json", help="append the results (a JSON line) to this file")
     args = ap.parse_args()
+    if args.shared is not None and args.boundary != "stick":
+        ap.error("--shared applies to --boundary stick only")
     if args.dt is None:
         args.dt = 0.005 if args.vv else 0.01
     if os.environ.get("MARBLE_SAMPLE_TEST"):
@@ -227,7 +229,7 @@ def main():
         s, info = scene(phi, args.box, args.dt, seed=args.seed, boundary=args.boundary, shardlow=not args.vv,
                         solvent_count=args.solvent_count, lubrication=not args.no_lubrication,
                         colloid_dpd=args.colloid_dpd, h_cut=args.h_cut, lubrication_form=args.lubrication_form,
-                        mass_scale=args.mass_scale, shared=args.shared if phi else None, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
+                        mass_scale=args.mass_scale, shared=args.shared, equil=2.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         eta, err, slope, slope_err, kt = measure(
             s, args.rate, args.time, equil=1.0 if os.environ.get("MARBLE_SAMPLE_TEST") else 10.0)
         results[phi] = (eta, err)
