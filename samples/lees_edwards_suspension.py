@@ -70,7 +70,7 @@ def scene(phi, box, dt, seed=11, equil=10.0, boundary="slip", shardlow=True, sol
     ``lubrication_form``: setup_suspension's default for ``boundary``, except
     that the solvent count of "slip" is "exact" (this sample's). ``mass_scale``
     multiplies every mass and rotational inertia (see scale_masses). ``shared``
-    (stick only; None: setup_suspension's "full"): the stick kernel's treatment of a
+    (stick only; None: setup_suspension's, "off"): the stick kernel's treatment of a
     bead in the friction shells of two colloids. Returns (system, info)."""
     mass_scale = check_mass_scale(mass_scale)
     if solvent_count is None and boundary == "slip":
@@ -204,7 +204,7 @@ def main():
                          "for slip and the plain form, 0.15 for stick's shifted form, doc/suspensions.md 7g/7i)")
     ap.add_argument("--shared", choices=["full", "split", "off"], default=None,
                     help="stick only: the friction of a bead in two colloids' shells (setup_suspension's "
-                         "shared; default full; doc/suspensions.md 7c, 7t)")
+                         "shared; default off, full before session 36; doc/suspensions.md 7c, 7t, 7u)")
     ap.add_argument("--lubrication-form", choices=["plain", "shifted"], default=None,
                     help="the lubrication kernel's form (default setup_suspension's: plain for slip, shifted, "
                          "i.e. zero at h_cut, for stick)")
@@ -240,7 +240,7 @@ def main():
         if args.json:
             import json
             extra = {} if args.mass_scale == 1.0 else dict(mass_scale=args.mass_scale)
-            if phi and args.shared is not None:  # (earlier lines: "full", the default)
+            if phi and args.boundary == "stick":  # (lines without it: "full", the default before session 36)
                 extra["shared"] = info["shared"]
             if marble.mpi_size() > 1:  # (cpu_s is rank 0's)
                 extra["ranks"] = marble.mpi_size()

@@ -106,8 +106,8 @@ def scene_suspension_stick_split():
     return _suspension_stick("split")
 
 
-def scene_suspension_stick_off():
-    return _suspension_stick("off")
+def scene_suspension_stick_full():
+    return _suspension_stick("full")
 
 
 def scene_lj():
@@ -734,7 +734,9 @@ def scene_lees_edwards_switch():
 
 def scene_lees_edwards_stick():
     """Stick colloids (large-range grid: a full shell of colloid ghosts, the
-    solvent's half shell) under Lees-Edwards shear, 30 VV steps with noise."""
+    solvent's half shell; setup_suspension's shared="off", so a bead in the
+    shells of colloids on other ranks must see them all) under Lees-Edwards
+    shear, 30 VV steps with noise."""
     s, info = _stick_suspension()
     _sheared(s, velocity=0.5, offset=2.2)
     s.integrator.set_vv()

@@ -103,11 +103,13 @@ def test_large_range_types_on_1_4_8_ranks():
 
 
 @needs("DPD", "HAT", "CONTACT", "LUBRICATION", "MASS", "TRANS_DPD", "ROTATION")
-@pytest.mark.parametrize("shared", ["split", "off"])
+@pytest.mark.parametrize("shared", ["full", "split"])
 def test_stick_suspension_shared_shells_1_vs_2_and_4_ranks(shared):
     """Stick colloids whose friction shells overlap (phi = 0.25): the "split"
-    and "off" treatments count every colloid around a bead, also those on
-    another rank (ghosts), so 2 and 4 ranks give the 1-rank trajectory."""
+    treatment (and "off", setup_suspension's default, in
+    test_lees_edwards_mpi.py) counts every colloid around a bead, also those on
+    another rank (ghosts), so 2 and 4 ranks give the 1-rank trajectory; "full"
+    (the default before session 36) needs no count."""
     one = run(f"suspension_stick_{shared}", 1)
     for n in (2, 4):
         res = run(f"suspension_stick_{shared}", n)

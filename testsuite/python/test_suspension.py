@@ -381,6 +381,10 @@ class Setup(unittest.TestCase):
         self.assertEqual(s1.non_bonded_inter[1, 1].dpd.get_params(), {})
         self.assertEqual((i1["solvent_count"], i1["lubrication_form"], i1["colloid_dpd"], i1["h_cut"]),
                          ("bulk", "shifted", False, 0.15))
+        # a bead in several colloids' friction shells gets no friction by default
+        # (doc/suspensions.md 7t, 7u; "full" before session 36)
+        self.assertEqual(i1["shared"], "off")
+        self.assertEqual(s1.non_bonded_inter[1, 0].surface_friction.get_params()["shared"], "off")
         free = self.L ** 3 - i1["n_colloids"] * 4 / 3 * math.pi * i1["core_radius"] ** 3
         self.assertEqual(i1["n_solvent"], round(3 * free) + round(i1["adsorbed"] * i1["n_colloids"]))
         # explicit arguments win; the plain form's h_cut default is r_c for stick too

@@ -74,6 +74,9 @@ ADSORBED_PER_AREA = 4.0 / (4.0 * math.pi * 0.987 ** 2)
 #: shifted kernel with h_cut = 0.15 supplies 1.5 of the missing 1.95 +/- 0.45 there
 #: and adds only 2 % in the resolved bin 0.1-0.15 (section 7i).
 STICK_LUBRICATION_H_CUT = 0.15
+#: setup_suspension's treatment of a solvent bead inside the friction shells of
+#: several stick colloids (doc/suspensions.md 7t, 7u; "full" before session 36)
+STICK_SHARED_DEFAULT = "off"
 
 
 def radius_calibration_arg(text):
@@ -357,8 +360,17 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       the colloid's rigid-body motion at the bead, torques on the colloid; needs
       TRANS_DPD and ROTATION): no-slip spheres of radius R (section 7c).
       ``shared`` (stick only): the kernel's treatment of a bead inside the
-      friction shells of several colloids: ``"full"`` (default: gamma with each),
-      ``"split"`` (gamma/n with each of n) or ``"off"`` (none).
+      friction shells of several colloids: ``"off"`` (default since session 36:
+      no friction with any of them), ``"split"`` (gamma/n with each of n) or
+      ``"full"`` (gamma with each, the default before). With ``"full"`` a close
+      pair resists sliding 1.35-1.41 times as much as two no-slip spheres (gaps
+      0.1-0.25) and the suspension at phi = 0.3 is 32 % more viscous than
+      Krieger-Dougherty; with ``"off"`` the pair slides nearly as no-slip spheres
+      (0.86-1.01 times), the suspension meets Krieger-Dougherty at phi = 0.2 and 0.3
+      within 10 % and shear-thins, but lies 6 % above Batchelor at phi = 0.1
+      ("full": 1 %) (doc/suspensions.md 7t, 7u).
+      A single colloid is the same in every mode; pass ``shared="full"`` to
+      reproduce the numbers of sections 7c-7s.
       ``stick_shell`` (stick only): the shell's thickness on the gap (default
       the colloid-solvent DPD cutoff r'_c).
     - ``radius_calibration`` (which radius ``radius`` is): ``"none"`` (the
@@ -433,7 +445,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
         h_cut = STICK_LUBRICATION_H_CUT if (stick_default and lubrication_form == "shifted") else r_cut
     if boundary == "stick":
         trans_gamma = 45.0 if trans_gamma is None else _positive("trans_gamma", trans_gamma, allow_zero=True)
-        shared = "full" if shared is None else shared
+        shared = STICK_SHARED_DEFAULT if shared is None else shared
         if shared not in ("full", "split", "off"):
             raise ValueError(f"parameter 'shared' must be 'full', 'split' or 'off', got {shared!r}")
         if stick_shell is not None:
