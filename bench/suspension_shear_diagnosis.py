@@ -9,7 +9,7 @@ and box sizes (optionally with the squeeze lubrication on below a short core gap
 ``--lubrication-h-cut``), and optionally splits the shear stress by type pair:
 
     build/pymarble bench/suspension_shear_diagnosis.py run --phi 0.3 --rate 0.025 \
-        --time 2000 --seed 11 [--box 8 8 8] [--split] [--lubrication-h-cut 0.13] --json FILE
+        --time 2000 --seed 11 [--box 8 8 8] [--split] [--lubrication-h-cut 0.13] [--shared off] --json FILE
     build/pymarble bench/suspension_shear_diagnosis.py table FILES [--eta0 0.3290 0.0030]
     build/pymarble bench/suspension_shear_diagnosis.py split FILES   # the split per scene
     build/pymarble bench/suspension_shear_diagnosis.py check-split
@@ -133,7 +133,7 @@ def run(args):
     s, info = scene(args.phi, args.box, args.dt, seed=args.seed, boundary="stick", shardlow=False,
                     solvent_count="bulk", lubrication=lub, colloid_dpd=False,
                     h_cut=args.lubrication_h_cut if lub else 1.0, lubrication_form=args.lubrication_form,
-                    mass_scale=args.mass_scale)
+                    mass_scale=args.mass_scale, shared=args.shared if stick else None)
     rec = None
     if args.split:
         types = set(np.asarray(s.part.all().type).tolist())
@@ -150,6 +150,7 @@ def run(args):
                colloid_dpd=False if stick else None,
                h_cut=(args.lubrication_h_cut if lub else 1.0) if stick else None,
                lubrication_form=args.lubrication_form if (stick and lub) else None,
+               shared=info["shared"] if stick else None,
                n_solvent=len(info["solvent_ids"]) if stick else int(round(3.0 * np.prod(args.box))),
                cpu_s=time.process_time() - t0, wall_s=time.time() - w0, slope=slope, slope_err=slope_err, kT=kt)
     if args.eta0 is not None:  # the solvent's viscosity at this mass: Re and Pe of the scene
@@ -354,6 +355,9 @@ def main():
                    help="every particle's mass and rotational inertia x this (section 7l; default 1: unchanged)")
     r.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"), default=None,
                    help="the solvent viscosity at this mass: only recorded, with Re and Pe, in the JSON row")
+    r.add_argument("--shared", choices=["full", "split", "off"], default="full",
+                   help="the stick shells' treatment of a bead in several colloids' shells (default full, "
+                        "as in sections 7j-7l; setup_suspension's default is off since session 36, 7u)")
     r.add_argument("--json")
     sub.add_parser("check-split")
     t = sub.add_parser("table")
