@@ -80,14 +80,12 @@ parser.add_argument("--mode", choices=["sweep", "frozen"], default="sweep",
 parser.add_argument("--gap", type=float, default=0.3, help="frozen: the gap h = r - 2R")
 parser.add_argument("--t-max", type=float, nargs="+", default=[2.0, 5.0, 10.0, 20.0, 40.0],
                     help="frozen: upper limits of the Green-Kubo integral")
-parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+parser.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default=sus.STICK_SHARED_DEFAULT,
                     help="the stick kernel's treatment of a bead in both colloids' friction shells "
                     "(setup_suspension's shared; default its default, off; full in every run before "
                     "session 36 and in the JSON files without the key)")
 parser.add_argument("--quiet", action="store_true")
 args = parser.parse_args()
-if args.shared is None:
-    args.shared = sus.STICK_SHARED_DEFAULT
 
 for name in ("L", "U", "time", "dt"):
     if not getattr(args, name) > 0:

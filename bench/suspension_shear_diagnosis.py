@@ -55,6 +55,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "samples"))
 sys.path.insert(0, HERE)
 
 import marble  # noqa: E402
+import marble.suspensions as sus  # noqa: E402
 from marble.theory import krieger_dougherty_viscosity as kd  # noqa: E402
 from marble.viscosity import block_average  # noqa: E402
 from lees_edwards_suspension import scene, measure, dimensionless  # noqa: E402
@@ -133,7 +134,7 @@ def run(args):
     s, info = scene(args.phi, args.box, args.dt, seed=args.seed, boundary="stick", shardlow=False,
                     solvent_count="bulk", lubrication=lub, colloid_dpd=False,
                     h_cut=args.lubrication_h_cut if lub else 1.0, lubrication_form=args.lubrication_form,
-                    mass_scale=args.mass_scale, shared=args.shared if stick else None)
+                    mass_scale=args.mass_scale, shared=args.shared)
     rec = None
     if args.split:
         types = set(np.asarray(s.part.all().type).tolist())
@@ -355,7 +356,7 @@ def main():
                    help="every particle's mass and rotational inertia x this (section 7l; default 1: unchanged)")
     r.add_argument("--eta0", type=float, nargs=2, metavar=("ETA0", "ERR"), default=None,
                    help="the solvent viscosity at this mass: only recorded, with Re and Pe, in the JSON row")
-    r.add_argument("--shared", choices=["full", "split", "off"], default="full",
+    r.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default="full",
                    help="the stick shells' treatment of a bead in several colloids' shells (default full, "
                         "as in sections 7j-7l; setup_suspension's default is off since session 36, 7u)")
     r.add_argument("--json")

@@ -38,7 +38,7 @@ parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("--phi", type=float, required=True, help="volume fraction (0: the solvent alone)")
 parser.add_argument("--boundary", choices=["slip", "stick"], default="slip")
 parser.add_argument("--trans-gamma", type=float, default=None, help="stick: tangential friction (default 45)")
-parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+parser.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default=None,
                     help="stick: friction of a bead in several colloids' shells (default setup_suspension's: off)")
 parser.add_argument("--stick-shell", type=float, default=None, help="stick: the friction shell's thickness")
 parser.add_argument("--radius-calibration", default=None,

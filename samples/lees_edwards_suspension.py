@@ -202,7 +202,7 @@ def main():
     ap.add_argument("--h-cut", type=float, default=None,
                     help="the lubrication kernel's range on the core gap (default setup_suspension's: 1.0 = r_c "
                          "for slip and the plain form, 0.15 for stick's shifted form, doc/suspensions.md 7g/7i)")
-    ap.add_argument("--shared", choices=["full", "split", "off"], default=None,
+    ap.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default=None,
                     help="stick only: the friction of a bead in two colloids' shells (setup_suspension's "
                          "shared; default off, full before session 36; doc/suspensions.md 7c, 7t, 7u)")
     ap.add_argument("--lubrication-form", choices=["plain", "shifted"], default=None,

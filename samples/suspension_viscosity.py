@@ -164,7 +164,7 @@ def main():
                              "the tangential surface_friction (doc/suspensions.md section 7c)")
     parser.add_argument("--trans-gamma", type=float, default=None,
                         help="stick: the tangential friction (default setup_suspension's 45)")
-    parser.add_argument("--shared", choices=["full", "split", "off"], default=None,
+    parser.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default=None,
                         help="stick: the friction of a bead inside several colloids' shells "
                              "(default setup_suspension's)")
     parser.add_argument("--radius-calibration", default=None,

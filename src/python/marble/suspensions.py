@@ -77,6 +77,8 @@ STICK_LUBRICATION_H_CUT = 0.15
 #: setup_suspension's treatment of a solvent bead inside the friction shells of
 #: several stick colloids (doc/suspensions.md 7t, 7u; "full" before session 36)
 STICK_SHARED_DEFAULT = "off"
+#: the values of ``shared`` (the surface_friction kernel's option)
+STICK_SHARED_MODES = ("full", "split", "off")
 
 
 def radius_calibration_arg(text):
@@ -446,7 +448,7 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
     if boundary == "stick":
         trans_gamma = 45.0 if trans_gamma is None else _positive("trans_gamma", trans_gamma, allow_zero=True)
         shared = STICK_SHARED_DEFAULT if shared is None else shared
-        if shared not in ("full", "split", "off"):
+        if shared not in STICK_SHARED_MODES:
             raise ValueError(f"parameter 'shared' must be 'full', 'split' or 'off', got {shared!r}")
         if stick_shell is not None:
             stick_shell = _positive("stick_shell", stick_shell)
