@@ -222,7 +222,8 @@ def main():
     if os.environ.get("MARBLE_SAMPLE_TEST"):
         args.box, args.time = [6.0, 6.0, 6.0], 2.0
     results = {}
-    runs = (args.phi,) if args.eta0 else (0.0, args.phi)
+    # the solvent reference first, unless given or the scene is the solvent itself
+    runs = (args.phi,) if args.eta0 or args.phi == 0 else (0.0, args.phi)
     if args.eta0:
         results[0.0] = tuple(args.eta0)
     for phi in runs:
@@ -256,6 +257,8 @@ def main():
                                         lubrication_form=info["lubrication_form"] if phi else None,
                                         n_solvent=len(info["solvent_ids"]) if phi else None,
                                         cpu_s=time.process_time(), slope=slope, slope_err=slope_err, kT=kt)) + "\n")
+    if args.phi == 0:
+        return
     (e0, s0), (e1, s1) = results[0.0], results[args.phi]
     er = e1 / e0
     if marble.mpi_rank() == 0:
