@@ -36,6 +36,15 @@ at density 3); R = 1 is the drag radius (section 7d, c = 1.013(10)).
 the force autocorrelation; --shared full|split|off sets the stick kernel's treatment of a
 bead inside both colloids' friction shells (section 7t compares the transverse friction with
 bench/two_sphere_stokes.py's no-slip pair for "full" and "off").
+
+--mode slide drives the pair at fixed --gap with +/-U perpendicular to its line of centres and
+no rotation, and measures the transverse resistance Y^A_11 - Y^A_12 as the sweep measures the
+squeeze (the solvent's impulse on the heavy colloids, velocities reset every chunk), after
+--discard time units of steady sliding; it prints the ratio to bench/two_sphere_stokes.py's
+stored no-slip value when the gap is one of its rows (section 7v):
+
+    build/pymarble bench/suspension_pair_resistance.py --mode slide --gap 0.1 --time 3000 \
+        --shared off --json bench/results/suspension_pair_slide_h010_off.json
 """
 import argparse
 import json
@@ -74,10 +83,14 @@ parser.add_argument("--raw", help="also save the chunk records (npz) here")
 parser.add_argument("--from-raw", help="analyse the chunk records of an earlier run (npz) instead of "
                     "simulating (pass the run's --U, --dt, --chunk, --L, --time, --h-lo, --h-hi, --seed)")
 parser.add_argument("--json", help="write the result (JSON) to this file")
-parser.add_argument("--mode", choices=["sweep", "frozen"], default="sweep",
+parser.add_argument("--mode", choices=["sweep", "frozen", "slide"], default="sweep",
                     help="sweep: prescribed +/-U (triangle wave in h); frozen: the pair held at --gap, "
-                    "friction from the force autocorrelation (Green-Kubo, heavy-particle limit)")
-parser.add_argument("--gap", type=float, default=0.3, help="frozen: the gap h = r - 2R")
+                    "friction from the force autocorrelation (Green-Kubo, heavy-particle limit); slide: the "
+                    "pair at --gap driven at +/-U perpendicular to its line of centres, no rotation (the "
+                    "transverse resistance Y^A_11 - Y^A_12, measured as the sweep measures the squeeze)")
+parser.add_argument("--gap", type=float, default=0.3, help="frozen, slide: the gap h = r - 2R")
+parser.add_argument("--discard", type=float, default=100.0,
+                    help="slide: time of steady sliding discarded before the measurement")
 parser.add_argument("--t-max", type=float, nargs="+", default=[2.0, 5.0, 10.0, 20.0, 40.0],
                     help="frozen: upper limits of the Green-Kubo integral")
 parser.add_argument("--shared", choices=sus.STICK_SHARED_MODES, default=sus.STICK_SHARED_DEFAULT,
@@ -191,6 +204,119 @@ if args.mode == "frozen":
         print(f"t_max {r['t_max']:5.1f}: squeeze {r['lambda_squeeze']:.3f} +/- {r['lambda_squeeze_err']:.3f} "
               f"(/theory {r['lambda_squeeze'] / th:.3f}), tangential {r['lambda_tangential']:.3f} "
               f"+/- {r['lambda_tangential_err']:.3f}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1, default=float)
+    sys.exit(0)
+
+def transverse_solve(xi):
+    """bench/two_sphere_stokes.py's no-slip Y^A_11 - Y^A_12 at xi (from its stored result), or None."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "two_sphere_stokes.json")
+    try:
+        rows = json.load(open(path))["rows"]
+    except (OSError, KeyError, ValueError):
+        return None
+    for r in rows:
+        if abs(r["xi"] - xi) < 1e-6:
+            return r["transverse_extrapolated"], r["transverse_err"]
+    return None
+
+
+def periodic_transverse_correction(d, box, sigma=0.3):
+    """The change of the relative transverse mobility (mu_11 - mu_12, units 1/(6 pi eta R)) of two
+    point forces +/-F e_y at distance d along x when the unbounded fluid becomes the periodic cube
+    of edge box (net force zero): the lattice sum (1/V) sum_k (1 - k_y^2/k^2)/k^2 (1 - cos k_x d)
+    minus its unbounded integral, both with the Gaussian regularisation exp(-k^2 sigma^2) (the
+    image field is smooth, so sigma << d, box drops out: the same sum without the (1 - cos) term
+    gives Hasimoto's self term -2.837 R/box to 1 % at sigma = 0.3). Negative: the box raises the
+    resistance; the no-slip pair in the box resists with 1/(1/lambda + correction)."""
+    from scipy.integrate import quad
+    nmax = int(math.ceil(7.0 / sigma / (2 * math.pi / box)))
+    n = np.arange(-nmax, nmax + 1)
+    kv = 2 * math.pi / box * np.stack(np.meshgrid(n, n, n, indexing="ij")).reshape(3, -1)
+    k2 = (kv ** 2).sum(0)
+    m = k2 > 0
+    kv, k2 = kv[:, m], k2[m]
+    lat = np.sum((1 - kv[1] ** 2 / k2) / k2 * np.exp(-k2 * sigma ** 2) * (1 - np.cos(kv[0] * d))) / box ** 3
+
+    def angular(a):   # the mean over directions of (1 - k_y^2/k^2) cos(k_x d), a = k d
+        return quad(lambda u: 0.25 * (1 + u * u) * math.cos(a * u), -1, 1, limit=200)[0]
+    free = quad(lambda k: math.exp(-k * k * sigma ** 2) * (2.0 / 3.0 - angular(k * d)), 0, 60 / sigma,
+                limit=400)[0] / (2 * math.pi ** 2)
+    return float(6 * math.pi * (lat - free))
+
+
+if args.mode == "slide":
+    # Colloid 0 moves at +U e_y, colloid 1 at -U e_y, both held without rotation; their line of
+    # centres is x, so the gap stays --gap. The solvent's impulse on each over a chunk is
+    # M (v_after - v_set), as in the sweep. The net force on the pair vanishes on average, so the
+    # periodic images' leading (Hasimoto, 1/L) term cancels as for the squeeze. Nothing moves along
+    # the line of centres, so the squeeze lubrication and seed 004's colloid DPD exert no mean force.
+    if not args.gap > 0:
+        raise ValueError("parameter '--gap' must be > 0")
+    if not args.discard >= 0:
+        raise ValueError("parameter '--discard' must be >= 0")
+    t_cpu0 = time.process_time()
+    s, info, col = new_pair_system(2 * R + args.gap)
+    k = args.chunk
+    tau = k * args.dt
+    n_discard = int(round(args.discard / tau))
+    n = int(round(args.time / tau))
+    v_set = np.array([[0.0, args.U, 0.0], [0.0, -args.U, 0.0]])
+    zero = np.zeros((2, 3))
+    J = np.empty((n, 2, 3))
+    for i in range(n_discard + n):
+        col.v = v_set
+        col.omega_lab = zero
+        s.integrator.run(k)
+        if i >= n_discard:
+            J[i - n_discard] = M_BIG * (np.asarray(col.v) - v_set)
+        if not args.quiet and i % 5000 == 0:
+            print(f"chunk {i}/{n_discard + n}, cpu {time.process_time() - t_cpu0:.0f} s", flush=True)
+    cpu = time.process_time() - t_cpu0
+    x = np.asarray(col.pos)
+    h_run = float(x[1, 0] - x[0, 0] - 2 * R)
+    f = J / tau
+    zeta0 = 6 * math.pi * eta0 * R
+    blocks = np.array_split(np.arange(n), args.blocks)
+
+    def per_block(values):
+        b = np.array([values[ix].mean() for ix in blocks])
+        return float(b.mean()), float(b.std(ddof=1) / math.sqrt(len(b)))
+
+    # resisting force per colloid along its motion, over 6 pi eta_0 R U
+    lam, lam_err = per_block(-0.5 * (f[:, 0, 1] - f[:, 1, 1]) / (zeta0 * args.U))
+    # checks that vanish by symmetry: the net force along y, the mean forces along z
+    net, net_err = per_block(0.5 * (f[:, 0, 1] + f[:, 1, 1]) / (zeta0 * args.U))
+    fz, fz_err = per_block(0.5 * (f[:, 0, 2] - f[:, 1, 2]) / (zeta0 * args.U))
+    fx, fx_err = per_block(-0.5 * (f[:, 0, 0] - f[:, 1, 0]))
+    solve = transverse_solve(args.gap / R)   # (h_run drifts by ~1e-5 over a run)
+    lam_rel = lam_rel_err = box_solve = None
+    box_corr = periodic_transverse_correction(2 * R + args.gap, L)
+    if solve is not None:
+        box_solve = 1.0 / (1.0 / solve[0] + box_corr)
+        lam_rel = lam / solve[0]
+        # statistical error, eta_0's error and the solve's, in quadrature
+        lam_rel_err = abs(lam_rel) * math.sqrt((lam_err / lam) ** 2 + (eta0_err / eta0) ** 2
+                                               + (solve[1] / solve[0]) ** 2)
+    out = dict(bench="suspension_pair_resistance", mode="slide", L=L, U=args.U, gap=args.gap, gap_end=h_run,
+               dt=args.dt, shared=args.shared, chunk=k, seed=args.seed, time=args.time, discard=args.discard,
+               equil=args.equil, R=R, core_radius=info["core_radius"], kT=KT, eta0=eta0, eta0_err=eta0_err,
+               n_solvent=info["n_solvent"], blocks=args.blocks,
+               lambda_transverse=lam, lambda_transverse_err=lam_err,
+               transverse_solve=None if solve is None else solve[0],
+               transverse_solve_err=None if solve is None else solve[1],
+               lambda_over_solve=lam_rel, lambda_over_solve_err=lam_rel_err,
+               periodic_mobility_correction=box_corr, transverse_solve_in_box=box_solve,
+               net_force_y=net, net_force_y_err=net_err, transverse_force_z=fz, transverse_force_z_err=fz_err,
+               mean_force_x=fx, mean_force_x_err=fx_err, cpu_s=cpu, machine=machine_info())
+    print(f"sliding pair, h = {h_run:.4f}, U = {args.U}, L = {L}, shared {args.shared}, {info['n_solvent']} beads, "
+          f"{args.time} time units after {args.discard}, cpu {cpu:.0f} s")
+    print(f"transverse lambda = {lam:.4f} +/- {lam_err:.4f}"
+          + ("" if solve is None else f"; no-slip solve {solve[0]:.4f}: ratio {lam_rel:.3f} +/- {lam_rel_err:.3f}; "
+             f"in the periodic box (mobility {box_corr:+.4f}) {box_solve:.4f}: ratio {lam / box_solve:.3f}"))
+    print(f"checks (0 by symmetry, same units): net y {net:+.4f} +/- {net_err:.4f}, z {fz:+.4f} +/- {fz_err:.4f}; "
+          f"mean force along the line of centres {fx:+.4f} +/- {fx_err:.4f} (> 0: repulsive)")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=1, default=float)

@@ -75,7 +75,7 @@ ADSORBED_PER_AREA = 4.0 / (4.0 * math.pi * 0.987 ** 2)
 #: and adds only 2 % in the resolved bin 0.1-0.15 (section 7i).
 STICK_LUBRICATION_H_CUT = 0.15
 #: setup_suspension's treatment of a solvent bead inside the friction shells of
-#: several stick colloids (doc/suspensions.md 7t, 7u; "full" before session 36)
+#: several stick colloids (doc/suspensions.md 7t-7v; "full" before session 36)
 STICK_SHARED_DEFAULT = "off"
 #: the values of ``shared`` (the surface_friction kernel's option)
 STICK_SHARED_MODES = ("full", "split", "off")
@@ -364,13 +364,14 @@ def setup_suspension(system, phi, radius, density=3.0, kT=0.1, gamma=4.5, eta=0.
       ``shared`` (stick only): the kernel's treatment of a bead inside the
       friction shells of several colloids: ``"off"`` (default since session 36:
       no friction with any of them), ``"split"`` (gamma/n with each of n) or
-      ``"full"`` (gamma with each, the default before). With ``"full"`` a close
-      pair resists sliding 1.35-1.41 times as much as two no-slip spheres (gaps
-      0.1-0.25) and the suspension at phi = 0.3 is 32 % more viscous than
-      Krieger-Dougherty; with ``"off"`` the pair slides nearly as no-slip spheres
-      (0.86-1.01 times), the suspension meets Krieger-Dougherty at phi = 0.2 and 0.3
-      within 10 % and shear-thins, but lies 6 % above Batchelor at phi = 0.1
-      ("full": 1 %) (doc/suspensions.md 7t, 7u).
+      ``"full"`` (gamma with each, the default before). With ``"off"`` the
+      suspension meets Batchelor at phi = 0.05 and 0.1 within 4 % and
+      Krieger-Dougherty at phi = 0.2 and 0.3 within 10 %, and shear-thins; with
+      ``"full"`` it is 32 % more viscous than Krieger-Dougherty at phi = 0.3 (the
+      two agree at phi = 0.1). Driven at a fixed gap, a close pair slides as two
+      no-slip spheres within 8 % with ``"full"`` at every gap, with ``"off"`` 8 %
+      below them at h = 0.1: ``"full"`` is the more faithful pair near contact
+      (doc/suspensions.md 7t-7v).
       A single colloid is the same in every mode; pass ``shared="full"`` to
       reproduce the numbers of sections 7c-7s.
       ``stick_shell`` (stick only): the shell's thickness on the gap (default
