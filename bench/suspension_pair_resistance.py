@@ -146,27 +146,40 @@ def gk_integral(f, tau, t_max):
     return 0.5 * tau * (c[0] + 2 * np.sum(c[1:]))
 
 
-if args.mode == "frozen":
+def run_at_fixed_gap(v_set, discard_time):
+    """The pair at centre distance 2R + --gap, both colloids reset to the velocities v_set
+    (2 x 3) and to no rotation before every chunk: after discard_time, the solvent's impulse
+    on each colloid per chunk for --time. Returns (forces (n, 2, 3), the gap at the end,
+    setup_suspension's info, CPU-s)."""
     if not args.gap > 0:
         raise ValueError("parameter '--gap' must be > 0")
+    if not discard_time >= 0:
+        raise ValueError("parameter '--discard' must be >= 0")
     t_cpu0 = time.process_time()
     s, info, col = new_pair_system(2 * R + args.gap)
     k = args.chunk
     tau = k * args.dt
+    n_discard = int(round(discard_time / tau))
     n = int(round(args.time / tau))
-    J = np.empty((n, 2, 3))
     zero = np.zeros((2, 3))
-    for i in range(n):
-        col.v = zero
+    J = np.empty((n, 2, 3))
+    for i in range(n_discard + n):
+        col.v = v_set
         col.omega_lab = zero
         s.integrator.run(k)
-        J[i] = M_BIG * np.asarray(col.v)
+        if i >= n_discard:
+            J[i - n_discard] = M_BIG * (np.asarray(col.v) - v_set)
         if not args.quiet and i % 5000 == 0:
-            print(f"chunk {i}/{n}, cpu {time.process_time() - t_cpu0:.0f} s", flush=True)
-    cpu = time.process_time() - t_cpu0
+            print(f"chunk {i}/{n_discard + n}, cpu {time.process_time() - t_cpu0:.0f} s", flush=True)
     x = np.asarray(col.pos)
-    h_run = float(x[1, 0] - x[0, 0] - 2 * R)
-    f = J / tau
+    return J / tau, float(x[1, 0] - x[0, 0] - 2 * R), info, time.process_time() - t_cpu0
+
+
+if args.mode == "frozen":
+    f, h_run, info, cpu = run_at_fixed_gap(np.zeros((2, 3)), 0.0)
+    k = args.chunk
+    tau = k * args.dt
+    n = len(f)
     # squeeze: f_a = (F1x - F2x)/2, int <f_a f_a> = kT (zeta_11 - zeta_12)/2;
     # tangential (no rotation), y and z: (F1y - F2y)/2 likewise with Y^A_11 - Y^A_12
     f_sq = 0.5 * (f[:, 0, 0] - f[:, 1, 0])
@@ -252,31 +265,9 @@ if args.mode == "slide":
     # M (v_after - v_set), as in the sweep. The net force on the pair vanishes on average, so the
     # periodic images' leading (Hasimoto, 1/L) term cancels as for the squeeze. Nothing moves along
     # the line of centres, so the squeeze lubrication and seed 004's colloid DPD exert no mean force.
-    if not args.gap > 0:
-        raise ValueError("parameter '--gap' must be > 0")
-    if not args.discard >= 0:
-        raise ValueError("parameter '--discard' must be >= 0")
-    t_cpu0 = time.process_time()
-    s, info, col = new_pair_system(2 * R + args.gap)
+    f, h_run, info, cpu = run_at_fixed_gap(np.array([[0.0, args.U, 0.0], [0.0, -args.U, 0.0]]), args.discard)
     k = args.chunk
-    tau = k * args.dt
-    n_discard = int(round(args.discard / tau))
-    n = int(round(args.time / tau))
-    v_set = np.array([[0.0, args.U, 0.0], [0.0, -args.U, 0.0]])
-    zero = np.zeros((2, 3))
-    J = np.empty((n, 2, 3))
-    for i in range(n_discard + n):
-        col.v = v_set
-        col.omega_lab = zero
-        s.integrator.run(k)
-        if i >= n_discard:
-            J[i - n_discard] = M_BIG * (np.asarray(col.v) - v_set)
-        if not args.quiet and i % 5000 == 0:
-            print(f"chunk {i}/{n_discard + n}, cpu {time.process_time() - t_cpu0:.0f} s", flush=True)
-    cpu = time.process_time() - t_cpu0
-    x = np.asarray(col.pos)
-    h_run = float(x[1, 0] - x[0, 0] - 2 * R)
-    f = J / tau
+    n = len(f)
     zeta0 = 6 * math.pi * eta0 * R
     blocks = np.array_split(np.arange(n), args.blocks)
 
